@@ -1,0 +1,331 @@
+"""Backtracking forcibility as a symbolic least fixpoint: layers, rank, BFA.
+
+For a generator ``G = (Q, Σc ⊎ Σu, δ, q0, Qm)`` write ``U(q)``/``C(q)`` for the
+uncontrollable/controllable events defined at ``q``.  From a target ``T ⊆ Q``::
+
+    W(0)   = T
+    W(k+1) = W(k) ∪ Force(W(k))
+    rank(q) = min {k : q ∈ W(k)}          (None where q ∉ W(∞))
+    L(k)   = W(k) \\ W(k-1)                 (the layers; L(0) = T)
+
+with two meanings of ``Force``:
+
+- **preemptive** (the seed paper's Remark: pending uncontrollable events preempt)::
+
+      Force(W) = {q : U(q) ≠ ∅ ∧ ∀u ∈ U(q). δ(q,u) ∈ W}
+               ∪ {q : U(q) = ∅ ∧ ∃c ∈ C(q). δ(q,c) ∈ W}
+
+- **standard** (the controller forces one event, the environment may still move first)::
+
+      Force(W) = {q : (∃c ∈ C(q). δ(q,c) ∈ W) ∧ ∀u ∈ U(q). δ(q,u) ∈ W}
+
+Symbolically, with the per-event partitioned relations of
+:class:`~supcoord.des.symbolic.SymbolicGenerator` and ``G`` deterministic,
+``∀u ∈ U(q). δ(q,u) ∈ W  ≡  ¬ ⋁_u Pre_u(Q \\ W)`` and
+``∃c ∈ C(q). δ(q,c) ∈ W  ≡  ⋁_c Pre_c(W)``; the set of states with ``U(q) ≠ ∅``,
+``⋁_u Pre_u(Q)``, is computed once.  Everything stays inside ``Q`` (the generator's
+invariant; a supervisor is a plant product restricted to its winning set).
+
+``W(k)`` grows monotonically inside a finite ``Q``, so the iteration stops; ``rank`` is
+then the worst case over the environment's choices: from ``q ∈ L(k)`` every
+uncontrollable successor the semantics lets happen lies in ``W(k-1)``, and (where the
+controller acts) some controllable one does too.  :func:`bfa` keeps the part of the
+layers that is forward-reachable from a source by such rank-decreasing steps (the
+paper's "set of all forcible paths").
+
+References
+----------
+- A. Macktoobian, W. M. Wonham, Automatic reconfiguration of untimed discrete-event
+  systems, ICEEE 2017 (backtracking forcibility).
+- M. Macktoobian, D. Gillet, J.-P. Kneib, The attitude of supervisory control theory
+  toward the complete coordination of robotic fiber positioners, IFAC LSS 2019 (CCC).
+- W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, Springer 2019.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping, Sequence
+
+from ..des.generator import Generator
+from ..des.symbolic import SymbolicGenerator
+from ..errors import InputError
+from ..symbolic.context import BDD
+
+__all__ = [
+    "SEMANTICS",
+    "Layers",
+    "forcible_layers",
+    "forcible_layers_naive",
+    "bfa",
+    "as_states",
+    "as_single_state",
+]
+
+SEMANTICS = ("preemptive", "standard")
+
+
+def _check_semantics(semantics: str) -> None:
+    if semantics not in SEMANTICS:
+        raise InputError(f"unknown forcibility semantics {semantics!r} (use preemptive or standard)", value=semantics)
+
+
+@dataclass
+class Layers:
+    """The iterates of the forcibility fixpoint: ``layers[k] = L(k)``, ``winning = ⋃ L(k)``.
+
+    ``complete`` is False when the iteration stopped early (``stop_at``), so ``winning``
+    is then ``W(k)`` for the last ``k`` computed, not ``W(∞)``.  ``env_states`` is the set
+    of states with ``U(q) ≠ ∅`` (where, under preemptive semantics, the environment acts).
+    """
+
+    generator: SymbolicGenerator
+    layers: list[BDD]
+    winning: BDD
+    semantics: str
+    env_states: BDD
+    complete: bool = True
+    stats: dict[str, Any] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.layers)
+
+    @property
+    def target(self) -> BDD:
+        return self.layers[0] if self.layers else self.generator.ctx.false
+
+    def rank(self, state: Any) -> int | None:
+        """Least ``k`` with ``state ⊆ W(k)`` (a single state: its rank), None if none.
+
+        ``state`` is a BDD, a ``{variable: value}`` dict, a list of component dicts or
+        (one-variable generators) a state number; see :func:`as_states`.
+        """
+        s = as_states(self.generator, state)
+        false = self.generator.ctx.false
+        if s == false:
+            return None
+        for k, layer in enumerate(self.layers):
+            s = s & ~layer  # what is not yet in W(k)
+            if s == false:
+                return k
+        return None
+
+    def sizes(self) -> list[int]:
+        """Exact number of states in each layer (arbitrary-precision integers)."""
+        return [self.generator.count_states(layer) for layer in self.layers]
+
+    def prefix(self, k: int) -> BDD:
+        """``W(k) = L(0) ∪ … ∪ L(k)`` (``W(-1) = ∅``)."""
+        w = self.generator.ctx.false
+        for layer in self.layers[: max(0, k + 1)]:
+            w |= layer
+        return w
+
+    def controller_states(self) -> BDD:
+        """Where the controller chooses the next event: everywhere under standard
+        semantics, only where ``U(q) = ∅`` under preemptive semantics."""
+        if self.semantics == "preemptive":
+            return self.generator.invariant & ~self.env_states
+        return self.generator.invariant
+
+
+def uncontrollable_enabled(G: SymbolicGenerator) -> BDD:
+    """``{q ∈ Q : U(q) ≠ ∅} = ⋁_u Pre_u(Q)``."""
+    out = G.ctx.false
+    for u in G.uncontrollable:
+        out |= G.enabled(u)
+    return out
+
+
+def force(G: SymbolicGenerator, W: BDD, Q: BDD, env_states: BDD, semantics: str) -> BDD:
+    """``Force(W)`` inside ``Q`` (see the module docstring for both semantics)."""
+    not_w = G.invariant & ~W
+    bad_u = G.ctx.false
+    for u in G.uncontrollable:
+        bad_u |= G.pre(not_w, u)  # ∃u ∈ U(q). δ(q,u) ∉ W
+    all_u_ok = Q & ~bad_u  # ∀u ∈ U(q). δ(q,u) ∈ W
+    some_c = G.ctx.false
+    for c in G.controllable:
+        some_c |= G.pre(W, c)  # ∃c ∈ C(q). δ(q,c) ∈ W
+    if semantics == "preemptive":
+        return (env_states & all_u_ok) | (Q & ~env_states & some_c)
+    return Q & some_c & all_u_ok
+
+
+def forcible_layers(
+    G: SymbolicGenerator,
+    target: Any,
+    *,
+    semantics: str = "preemptive",
+    within: BDD | None = None,
+    stop_at: Any = None,
+) -> Layers:
+    """The layers ``L(0), L(1), …`` of ``W(k+1) = W(k) ∪ Force(W(k))``, ``W(0) = T``.
+
+    ``target`` is a BDD (or a state, see :func:`as_states`); ``within`` restricts the
+    states that may be won (successors outside it count as losing); ``stop_at`` ends
+    the iteration as soon as ``stop_at ⊆ W(k)`` (e.g. the source state), leaving
+    ``complete = False``.  Calls ``ctx.check_budget("force", iteration=k, …)`` once per
+    layer.
+    """
+    _check_semantics(semantics)
+    ctx = G.ctx
+    started = time.perf_counter()
+    Q = G.invariant if within is None else G.invariant & within
+    env_states = uncontrollable_enabled(G)
+    stop = None if stop_at is None else as_states(G, stop_at)
+    w = as_states(G, target) & Q
+    layers = [w]
+    complete = True
+    k = 0
+    xold = None
+    while w != xold:
+        ctx.check_budget("force", iteration=k, layer_nodes=ctx.node_count(layers[-1]))
+        if stop is not None and (stop & ~w) == ctx.false:
+            complete = False
+            break
+        xold = w
+        w = xold | force(G, xold, Q, env_states, semantics)  # W(k+1) = W(k) ∪ Force(W(k))
+        if w != xold:
+            layers.append(w & ~xold)  # L(k+1) = W(k+1) \ W(k)
+            k += 1
+    stats = {
+        "iterations": k,
+        "seconds": time.perf_counter() - started,
+        "bdd_nodes": ctx.node_count(*layers),
+        "peak_nodes": ctx.peak_nodes(),
+    }
+    return Layers(G, layers, w, semantics, env_states, complete, stats)
+
+
+# -- states given in several forms -------------------------------------------------
+
+
+def as_states(G: SymbolicGenerator, x: Any) -> BDD:
+    """A set of states of ``G`` from a BDD, a ``{variable: value}`` dict, a list of
+    dicts (one per component of a product: merged), a state number (generators with
+    one variable), or ``None`` for the initial state.  Conjoined with ``G.invariant``.
+    """
+    ctx = G.ctx
+    if x is None:
+        return G.init
+    if getattr(x, "bdd", None) is ctx.bdd:
+        return x & G.invariant
+    if isinstance(x, Mapping):
+        return G.state_of(x)
+    if isinstance(x, bool):
+        raise InputError(f"a state cannot be given as {x!r}", value=x)
+    if isinstance(x, int):
+        if len(G.variables) == 1:
+            return G.state_of({G.variables[0]: x})
+        if not G.variables and x == 0:
+            return G.invariant
+        raise InputError(f"state number {x} needs a one-variable generator; {G.name!r} has {len(G.variables)}", value=x)
+    if isinstance(x, (list, tuple)) and all(isinstance(p, Mapping) for p in x):
+        merged: dict[str, int] = {}
+        for part in x:
+            merged.update(part)
+        return G.state_of(merged)
+    raise InputError(f"cannot read a state of {G.name!r} from {x!r}", value=x)
+
+
+def as_single_state(G: SymbolicGenerator, x: Any) -> BDD:
+    """Like :func:`as_states` but exactly one state (a cube), else :class:`InputError`."""
+    s = as_states(G, x)
+    values = G.pick(s)
+    if values is None:
+        raise InputError(f"no such state in {G.name!r}: {x!r}", value=x)
+    cube = G.state_of(values) if G.variables else G.invariant
+    if cube != s:
+        raise InputError(f"expected one state of {G.name!r}, got a set of several", value=x)
+    return cube
+
+
+# -- the set of all forcible paths -------------------------------------------------
+
+
+def allowed_successors(G: SymbolicGenerator, lay: Layers, states: BDD, below: BDD) -> BDD:
+    """Successors of ``states`` (all in one layer ``L(k)``) along the steps the
+    semantics allows into ``below = W(k-1)``: every uncontrollable event where the
+    environment may move, controllable events into ``below`` where the controller acts."""
+    env = states & lay.env_states
+    ctrl = states & lay.controller_states()
+    out = G.ctx.false
+    if lay.semantics == "standard":
+        env = states
+    for u in G.uncontrollable:
+        out |= G.post(env, u)  # all lie in W(k-1) by construction of L(k)
+    for c in G.controllable:
+        out |= G.post(ctrl, c) & below  # a rank-decreasing forced step
+    return out
+
+
+def bfa(G: SymbolicGenerator, source: Any, target: Any, semantics: str = "preemptive") -> Layers:
+    """``BFA(G, source, target)``: the layers of the target restricted to the states
+    forward-reachable from ``source`` along rank-decreasing allowed steps.
+
+    The result's ``layers[k]`` is ``L(k) ∩ R`` for ``k ≤ rank(source)``, where ``R`` is
+    that reachable set; it is empty (``layers == []``) when ``source`` is not forcible.
+    """
+    _check_semantics(semantics)
+    src = as_states(G, source)
+    full = forcible_layers(G, target, semantics=semantics, stop_at=src)
+    top = full.rank(src)
+    false = G.ctx.false
+    if top is None:
+        return Layers(G, [], false, semantics, full.env_states, full.complete, dict(full.stats))
+    prefixes = [false]
+    for layer in full.layers[:top]:
+        prefixes.append(prefixes[-1] | layer)  # prefixes[k] = W(k-1)
+    reach = src
+    for k in range(top, 0, -1):
+        here = reach & full.layers[k]
+        reach |= allowed_successors(G, full, here, prefixes[k])
+    layers = [layer & reach for layer in full.layers[: top + 1]]
+    stats = dict(full.stats, dag_nodes=G.ctx.node_count(*layers))
+    winning = false
+    for layer in layers:
+        winning |= layer
+    return Layers(G, layers, winning, semantics, full.env_states, True, stats)
+
+
+# -- the explicit twin -------------------------------------------------------------
+
+
+def forced_naive(g: Generator, q: int, W: set[int], semantics: str) -> bool:
+    """``q ∈ Force(W)`` read straight from the definition."""
+    out = g.enabled(q)
+    U = [d for e, d in out.items() if not g.events[e].controllable]
+    C = [d for e, d in out.items() if g.events[e].controllable]
+    if semantics == "preemptive":
+        return all(d in W for d in U) if U else any(d in W for d in C)
+    return any(d in W for d in C) and all(d in W for d in U)
+
+
+def forcible_layers_naive(g: Generator, target: Iterable[int], semantics: str = "preemptive") -> list[set[int]]:
+    """Explicit layers ``[L(0), L(1), …]``: backward breadth-first over predecessors.
+
+    A state entering ``W(k+1)`` has a successor in ``L(k)`` (otherwise it would already
+    satisfy ``Force(W(k-1))``), so only predecessors of the last layer are candidates.
+    """
+    _check_semantics(semantics)
+    preds: dict[int, set[int]] = {}
+    for s, _, d in g.transitions():
+        preds.setdefault(d, set()).add(s)
+    W = {q for q in target if 0 <= q < g.n_states}
+    layers = [set(W)]
+    while True:
+        candidates = {p for q in layers[-1] for p in preds.get(q, ()) if p not in W}
+        new = {q for q in candidates if forced_naive(g, q, W, semantics)}
+        if not new:
+            return layers
+        W |= new
+        layers.append(new)
+
+
+def rank_naive(layers: Sequence[set[int]], q: int) -> int | None:
+    for k, layer in enumerate(layers):
+        if q in layer:
+            return k
+    return None
