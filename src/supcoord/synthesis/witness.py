@@ -142,24 +142,28 @@ def forcing_paths(
             s = cache[q] = _steps(G, layers, q, r)
         return s
 
-    def exact(q: BDD, r: int, remaining: int, prefix: list[str]) -> Iterator[list[str]]:
-        if remaining == 0:
-            if r == 0:
-                yield list(prefix)
-            return
-        if r == 0 or remaining > r:
-            return
-        for e, succ, j in steps(q, r):
-            prefix.append(e)
-            yield from exact(succ, j, remaining - 1, prefix)
-            prefix.pop()
-
     for length in range(bound + 1):
-        for p in exact(q0, k0, length, []):
+        for p in _paths_of_length(steps, q0, k0, length, []):
             if limit is not None and produced >= limit:
                 return
             produced += 1
             yield p
+
+
+def _paths_of_length(steps, q: BDD, r: int, remaining: int, prefix: list[str]) -> Iterator[list[str]]:
+    """Paths of exactly ``remaining`` allowed steps from ``q`` (rank ``r``) to rank 0.
+    (Module-level, not a recursive closure: a self-referencing closure holding BDDs
+    would form a garbage cycle with the manager.)"""
+    if remaining == 0:
+        if r == 0:
+            yield list(prefix)
+        return
+    if r == 0 or remaining > r:
+        return
+    for e, succ, j in steps(q, r):
+        prefix.append(e)
+        yield from _paths_of_length(steps, succ, j, remaining - 1, prefix)
+        prefix.pop()
 
 
 def strategy(G: SymbolicGenerator, layers: Layers) -> list[dict[str, BDD]]:
