@@ -1,0 +1,358 @@
+"""Discretised positioner kinematics: joint positions → the colliding segment.
+
+A positioner's position is a tuple of joint indices ``q = (q_0, …, q_{J-1})``,
+``q_j ∈ {0, …, steps_j − 1}``; a *move* changes one joint by ``±1`` (the supervisor's
+single events), cyclically where the joint wraps, never past a hard stop otherwise::
+
+    N(q) = {q + δ·e_j : j < J, δ ∈ {−1, +1}, (q + δ·e_j)_j ∈ [0, steps_j) or joint j wraps}
+
+Geometry (``formats.md``), angles from +x, counter-clockwise positive:
+
+- ``rotary`` (the seed paper's 1-DOF positioner): ``θ(k) = −2πk/steps``; the arm, the
+  colliding segment, goes from the base to ``arm·(cos θ, sin θ)``; index ``k + 1`` is
+  one step clockwise (the paper's forward event ``v``); ``steps − 1`` and ``0`` are
+  neighbours.
+- ``alpha-beta`` (SDSS-V-like, 2 DOF): ``α(i) = 2πi/A`` (wrapping),
+  ``β(j) = lo + (hi − lo)·j/(B − 1)`` with hard stops at ``j = 0`` and ``j = B − 1``; the
+  elbow at ``alpha·(cos α, sin α)``; the beta arm, the colliding segment, from the
+  elbow to the fibre ``elbow + beta·(cos(α+β), sin(α+β))``.
+
+Motion between positions is linear in joint space: :meth:`Kinematics.segments`
+accepts fractional joint positions, so ``q + t·δ`` for ``t ∈ [0, 1]`` is the pose at
+time ``t`` of a step, and :meth:`Kinematics.sweep_length` bounds how far any point of
+the colliding segment travels along it (what makes sampled swept checks sound).
+
+References
+----------
+- A. Macktoobian, D. Gillet, J.-P. Kneib, Supervisory coordination of robotic fiber
+  positioners in multi-object spectrographs, IFAC 2019 (rotary model).
+- C. Sayres et al., kaiju: collision-avoidance path planning for SDSS-V robots (alpha-beta).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import FormatError, InputError
+from .layout import _finite_number, _positive_number, _short
+
+__all__ = ["Joint", "Kinematics", "Rotary", "AlphaBeta", "kinematics_from_spec", "MAX_LENGTH"]
+
+#: longest arm accepted (mm); anything longer is a unit mistake
+MAX_LENGTH = 1e6
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One discretised joint: its name, number of positions, and whether it wraps."""
+
+    name: str
+    steps: int
+    wraps: bool
+
+
+class Kinematics:
+    """Common interface of the discretised kinematics (see the module docstring)."""
+
+    kind: str = ""
+    joints: tuple[Joint, ...] = ()
+
+    # --- index spaces -------------------------------------------------------------
+    @property
+    def n_joints(self) -> int:
+        return len(self.joints)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(j.steps for j in self.joints)
+
+    @property
+    def n_positions(self) -> int:
+        """Number of discrete positions of one positioner (product of the joints' steps)."""
+        return int(np.prod(self.shape))
+
+    def all_positions(self) -> np.ndarray:
+        """Every position as an ``(n_positions, J)`` int array, in :meth:`flat_index` order."""
+        grids = np.meshgrid(*[np.arange(s) for s in self.shape], indexing="ij")
+        return np.stack([g.ravel() for g in grids], axis=-1)
+
+    def flat_index(self, q: Any) -> np.ndarray:
+        """Row-major index of positions ``q`` (``(..., J)`` ints) in :meth:`all_positions`."""
+        q = np.asarray(q)
+        return np.ravel_multi_index(tuple(np.moveaxis(q, -1, 0)), self.shape)
+
+    def in_range(self, q: Any) -> np.ndarray:
+        q = np.asarray(q)
+        return np.all((q >= 0) & (q < np.array(self.shape)), axis=-1)
+
+    # --- moves --------------------------------------------------------------------
+    def moves(self) -> list[tuple[int, int]]:
+        """The single-joint moves ``(joint, delta)``, ``delta ∈ {+1, −1}``, in a fixed order."""
+        return [(j, d) for j in range(self.n_joints) for d in (+1, -1)]
+
+    def step(self, q: Any, joint: int, delta: int) -> np.ndarray | None:
+        """The position after one move, or ``None`` past a hard stop."""
+        out = np.array(q, dtype=int).copy()
+        out[joint] += delta
+        jt = self.joints[joint]
+        if jt.wraps:
+            out[joint] %= jt.steps
+        elif not 0 <= out[joint] < jt.steps:
+            return None
+        return out
+
+    def step_valid(self, q: Any, joint: int, delta: int) -> np.ndarray:
+        """Boolean mask over positions ``q`` (``(..., J)``): is the move inside the hard stops?"""
+        q = np.asarray(q)
+        jt = self.joints[joint]
+        if jt.wraps:
+            return np.ones(q.shape[:-1], dtype=bool)
+        nxt = q[..., joint] + delta
+        return (nxt >= 0) & (nxt < jt.steps)
+
+    def neighbours(self, q: Any) -> list[np.ndarray]:
+        """Positions one move away from ``q`` (wrapping joints wrap, others stop)."""
+        out = []
+        for j, d in self.moves():
+            nxt = self.step(q, j, d)
+            if nxt is not None and not np.array_equal(nxt, q):
+                out.append(nxt)
+        return out
+
+    def joint_distance(self, a: Any, b: Any) -> np.ndarray:
+        """Per-joint number of single steps from ``a`` to ``b`` (cyclic where the joint wraps)."""
+        a, b = np.asarray(a), np.asarray(b)
+        diff = np.abs(a - b)
+        steps = np.array(self.shape)
+        wraps = np.array([j.wraps for j in self.joints])
+        return np.where(wraps, np.minimum(diff, steps - diff), diff)
+
+    def signed_delta(self, a: Any, b: Any) -> np.ndarray:
+        """The per-joint step ``b − a`` taken the short way round for wrapping joints.
+
+        For consecutive plan configurations each entry is in ``{−1, 0, +1}`` when the
+        plan is well formed (a wrapping joint with 2 steps counts as ``+1``).
+        """
+        a, b = np.asarray(a), np.asarray(b)
+        d = b - a
+        steps = np.array(self.shape)
+        wraps = np.array([j.wraps for j in self.joints])
+        wrapped = (d + steps // 2) % steps - steps // 2
+        wrapped = np.where((steps == 2) & (wrapped == -1), 1, wrapped)
+        return np.where(wraps, wrapped, d)
+
+    # --- geometry (overridden) ----------------------------------------------------
+    @property
+    def reach(self) -> float:
+        """An upper bound on the distance from the base of any point of the colliding segment."""
+        raise NotImplementedError
+
+    def segments(self, q: Any) -> np.ndarray:
+        """Colliding segment relative to the base, ``(..., 2, 2)`` (start, end) for ``q`` ``(..., J)`` floats."""
+        raise NotImplementedError
+
+    def sweep_length(self, delta: Any) -> np.ndarray:
+        """Bound on the path length of any point of the colliding segment for ``q → q + delta``."""
+        raise NotImplementedError
+
+    def fibre(self, q: Any) -> np.ndarray:
+        return self.segments(q)[..., 1, :]
+
+    # --- JSON ---------------------------------------------------------------------
+    def to_json(self) -> dict:
+        raise NotImplementedError
+
+    def position_to_json(self, q: Any) -> Any:
+        q = [int(v) for v in np.asarray(q).ravel()]
+        return q[0] if self.kind == "rotary" else q
+
+    def position_from_json(self, value: Any, field: str, where: str | None) -> tuple[int, ...]:
+        """Parse one JSON position (an int for rotary, ``[i, j]`` otherwise); range-checked."""
+        if self.kind == "rotary":
+            if not _is_int(value):
+                raise FormatError(f"{field} must be an integer position, got {_short(value)}", value=value, where=where)
+            q = (int(value),)
+        else:
+            if not isinstance(value, list) or len(value) != self.n_joints or not all(_is_int(v) for v in value):
+                raise FormatError(
+                    f"{field} must be a list of {self.n_joints} integers {[j.name for j in self.joints]}, got {_short(value)}",
+                    value=value, where=where)
+            q = tuple(int(v) for v in value)
+        for jt, v in zip(self.joints, q):
+            if not 0 <= v < jt.steps:
+                raise InputError(f"{field}: {jt.name} position {v} is out of range [0, {jt.steps - 1}]", value=value, where=where)
+        return q
+
+
+@dataclass(frozen=True, eq=True)
+class _RotaryData:
+    arm: float
+    steps: int
+
+
+class Rotary(Kinematics):
+    """The seed paper's one-joint positioner: ``θ(k) = −2πk/steps``, the arm from base to fibre.
+
+    >>> kin = Rotary(15.0, 12)
+    >>> kin.segments([3]).round(6).tolist()   # k = 3: a quarter turn clockwise, pointing −y
+    [[0.0, 0.0], [0.0, -15.0]]
+    """
+
+    kind = "rotary"
+
+    def __init__(self, arm: float, steps: int):
+        if not _positive_number(arm) or arm > MAX_LENGTH:
+            raise InputError(f"kinematics.arm must be a positive number (mm) <= {MAX_LENGTH:g}, got {arm!r}", value=arm)
+        if not _is_int(steps) or steps < 2:
+            raise InputError(f"kinematics.steps must be an integer >= 2, got {steps!r}", value=steps)
+        self.arm = float(arm)
+        self.steps = int(steps)
+        self.joints = (Joint("theta", self.steps, True),)
+
+    def __repr__(self) -> str:
+        return f"Rotary(arm={self.arm}, steps={self.steps})"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Rotary) and (self.arm, self.steps) == (other.arm, other.steps)
+
+    __hash__ = None  # type: ignore[assignment]
+
+    @property
+    def reach(self) -> float:
+        return self.arm
+
+    def segments(self, q: Any) -> np.ndarray:
+        q = np.asarray(q, dtype=float)
+        theta = -2 * np.pi * q[..., 0] / self.steps
+        end = self.arm * np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+        return np.stack([np.zeros_like(end), end], axis=-2)
+
+    def sweep_length(self, delta: Any) -> np.ndarray:
+        delta = np.asarray(delta, dtype=float)
+        return self.arm * np.abs(delta[..., 0]) * 2 * np.pi / self.steps
+
+    def to_json(self) -> dict:
+        return {"kind": "rotary", "arm": self.arm, "steps": self.steps}
+
+
+class AlphaBeta(Kinematics):
+    """Two joints (SDSS-V-like): ``α = 2πi/A`` wrapping, ``β = lo + (hi−lo)·j/(B−1)`` with hard stops.
+
+    >>> kin = AlphaBeta(7.4, 15.0, 4, 3, (0.0, 180.0))
+    >>> kin.segments([1, 0]).round(6).tolist()   # α = 90°, β = 0: arm straight up +y
+    [[0.0, 7.4], [0.0, 22.4]]
+    """
+
+    kind = "alpha-beta"
+
+    def __init__(self, alpha: float, beta: float, alpha_steps: int, beta_steps: int,
+                 beta_range: tuple[float, float] = (0.0, 180.0)):
+        for name, v in (("alpha", alpha), ("beta", beta)):
+            if not _positive_number(v) or v > MAX_LENGTH:
+                raise InputError(f"kinematics.{name} must be a positive arm length (mm) <= {MAX_LENGTH:g}, got {v!r}", value=v)
+        if not _is_int(alpha_steps) or alpha_steps < 2:
+            raise InputError(f"kinematics.alpha_steps must be an integer >= 2, got {alpha_steps!r}", value=alpha_steps)
+        if not _is_int(beta_steps) or beta_steps < 2:
+            raise InputError(f"kinematics.beta_steps must be an integer >= 2, got {beta_steps!r}", value=beta_steps)
+        if (not isinstance(beta_range, (list, tuple)) or len(beta_range) != 2
+                or not all(_finite_number(v) for v in beta_range)):
+            raise InputError(f"kinematics.beta_range must be [lo, hi] in degrees, got {_short(beta_range)}", value=beta_range)
+        lo, hi = float(beta_range[0]), float(beta_range[1])
+        if not (-360.0 <= lo < hi <= 360.0 and hi - lo <= 360.0):
+            raise InputError(f"kinematics.beta_range must satisfy -360 <= lo < hi <= 360 and hi - lo <= 360, got {[lo, hi]}",
+                             value=beta_range)
+        self.alpha, self.beta = float(alpha), float(beta)
+        self.alpha_steps, self.beta_steps = int(alpha_steps), int(beta_steps)
+        self.beta_range = (lo, hi)
+        self.joints = (Joint("alpha", self.alpha_steps, True), Joint("beta", self.beta_steps, False))
+
+    def __repr__(self) -> str:
+        return (f"AlphaBeta(alpha={self.alpha}, beta={self.beta}, alpha_steps={self.alpha_steps}, "
+                f"beta_steps={self.beta_steps}, beta_range={list(self.beta_range)})")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, AlphaBeta) and self.to_json() == other.to_json()
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def angles(self, q: Any) -> tuple[np.ndarray, np.ndarray]:
+        """``(α, β)`` in radians for (fractional) positions ``q``."""
+        q = np.asarray(q, dtype=float)
+        lo, hi = np.radians(self.beta_range)
+        a = 2 * np.pi * q[..., 0] / self.alpha_steps
+        b = lo + (hi - lo) * q[..., 1] / (self.beta_steps - 1)
+        return a, b
+
+    @property
+    def beta_step_rad(self) -> float:
+        lo, hi = self.beta_range
+        return math.radians(hi - lo) / (self.beta_steps - 1)
+
+    @property
+    def reach(self) -> float:
+        lo, hi = np.radians(self.beta_range)
+        # max over β ∈ [lo, hi] of cos β: 1 if a multiple of 2π lies inside, else at an end
+        k = math.ceil(lo / (2 * math.pi))
+        cmax = 1.0 if 2 * math.pi * k <= hi else max(math.cos(lo), math.cos(hi))
+        return math.sqrt(self.alpha**2 + self.beta**2 + 2 * self.alpha * self.beta * cmax)
+
+    def segments(self, q: Any) -> np.ndarray:
+        a, b = self.angles(q)
+        elbow = self.alpha * np.stack([np.cos(a), np.sin(a)], axis=-1)
+        fibre = elbow + self.beta * np.stack([np.cos(a + b), np.sin(a + b)], axis=-1)
+        return np.stack([elbow, fibre], axis=-2)
+
+    def elbows(self, q: Any) -> np.ndarray:
+        return self.segments(q)[..., 0, :]
+
+    def sweep_length(self, delta: Any) -> np.ndarray:
+        # a point of the beta arm is within `reach` of the base (α turns it about the base)
+        # and within `beta` of the elbow (β turns it about the elbow)
+        delta = np.asarray(delta, dtype=float)
+        da = np.abs(delta[..., 0]) * 2 * np.pi / self.alpha_steps
+        db = np.abs(delta[..., 1]) * self.beta_step_rad
+        return self.reach * da + self.beta * db
+
+    def to_json(self) -> dict:
+        return {"kind": "alpha-beta", "alpha": self.alpha, "beta": self.beta, "alpha_steps": self.alpha_steps,
+                "beta_steps": self.beta_steps, "beta_range": list(self.beta_range)}
+
+
+def kinematics_from_spec(spec: Any, where: str | None = None) -> Kinematics:
+    """Parse a PROBLEM.json ``kinematics`` object; errors name the field and value."""
+    if not isinstance(spec, dict):
+        raise FormatError(f"kinematics must be an object, got {_short(spec)}", value=spec, where=where)
+    kind = spec.get("kind")
+    try:
+        if kind == "rotary":
+            _require(spec, ("arm", "steps"), where)
+            if spec["steps"] > 100_000 if _is_int(spec["steps"]) else False:
+                raise InputError(f"kinematics.steps is unreasonably large: {spec['steps']}", value=spec["steps"])
+            return Rotary(spec["arm"], spec["steps"])
+        if kind == "alpha-beta":
+            _require(spec, ("alpha", "beta", "alpha_steps", "beta_steps"), where)
+            for f in ("alpha_steps", "beta_steps"):
+                if _is_int(spec[f]) and spec[f] > 10_000:
+                    raise InputError(f"kinematics.{f} is unreasonably large: {spec[f]}", value=spec[f])
+            return AlphaBeta(spec["alpha"], spec["beta"], spec["alpha_steps"], spec["beta_steps"],
+                             spec.get("beta_range", [0.0, 180.0]))
+    except InputError as exc:
+        if exc.where is None:
+            exc.where = where
+            exc.args = (exc.one_line(),)
+        raise
+    raise FormatError(f"kinematics.kind must be 'rotary' or 'alpha-beta', got {_short(kind)}", value=kind, where=where)
+
+
+def _require(spec: dict, fields: tuple[str, ...], where: str | None) -> None:
+    for f in fields:
+        if f not in spec:
+            raise FormatError(f"kinematics.{f} is missing (kind {spec.get('kind')!r})", value=None, where=where)
+
+
+def _is_int(v: Any) -> bool:
+    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
