@@ -1,0 +1,105 @@
+"""The classic benchmarks: data files load, and libFAUDES and supcoord both reproduce the
+published supervisor sizes (references.md)."""
+
+from __future__ import annotations
+
+import faudes
+import pytest
+
+from supcoord.des import classic, families, symbolic_ops
+from supcoord.des.generator import Generator
+from supcoord.des.io_gen import format_gen
+from supcoord.errors import InputError
+from supcoord.symbolic import Context
+from supcoord.synthesis import lift_spec, supcon, supcon_naive
+from supcoord.des import explicit_ops as X
+
+PUBLISHED = {
+    "small_factory": (12, 24),
+    "transfer_line": (28, 65),
+    "agv": (4406, 11338),
+    "cat_mouse": (6, 9),
+    "dining_philosophers": (79, 244),
+}
+
+
+def to_faudes(g: Generator, tmp_path) -> faudes.System:
+    path = tmp_path / f"{g.name}.gen"
+    path.write_text(format_gen(g), encoding="latin-1")
+    return faudes.System(str(path))
+
+
+def faudes_supcon(plants: list[Generator], specs: list[Generator], tmp_path) -> tuple[int, int]:
+    """libFAUDES: Parallel the components, InvProject the spec to the plant alphabet, SupCon."""
+    P = to_faudes(plants[0], tmp_path)
+    for g in plants[1:]:
+        out = faudes.System()
+        faudes.Parallel(P, to_faudes(g, tmp_path), out)
+        P = out
+    if specs:
+        S = to_faudes(specs[0], tmp_path)
+        for g in specs[1:]:
+            out = faudes.System()
+            faudes.Parallel(S, to_faudes(g, tmp_path), out)
+            S = out
+        faudes.InvProject(S, P.Alphabet())
+    else:  # allevents(plant)
+        S = faudes.System()
+        S.InsEvents(P.Alphabet())
+        q = S.InsState()
+        S.SetInitState(q)
+        S.SetMarkedState(q)
+        for e in P.Alphabet():
+            S.SetTransition(q, e, q)
+    R = faudes.System()
+    faudes.SupCon(P, S, R)
+    assert faudes.IsControllable(P, R) if R.Size() else True
+    return R.Size(), R.TransRelSize()
+
+
+def symbolic_supcon(plants: list[Generator], specs: list[Generator]) -> dict:
+    ctx = Context()
+    G, E = families.to_symbolic(ctx, plants, specs)
+    E = lift_spec(G, E) if E is not None else symbolic_ops.allevents(ctx, G)
+    return supcon(G, E).stats
+
+
+def test_names_and_published_table():
+    assert classic.names() == sorted(PUBLISHED)
+    for name, expected in PUBLISHED.items():
+        assert classic.load(name).expected == expected
+    with pytest.raises(InputError, match="unknown classic model"):
+        classic.load("nope")
+
+
+@pytest.mark.parametrize("name", sorted(PUBLISHED))
+def test_libfaudes_reproduces_published_size(name, tmp_path):
+    m = classic.load(name)
+    assert faudes_supcon(m.plants, m.specs, tmp_path) == PUBLISHED[name]
+
+
+@pytest.mark.parametrize("name", sorted(PUBLISHED))
+def test_supcoord_symbolic_supcon_reproduces_published_size(name):
+    m = classic.load(name)
+    st = symbolic_supcon(m.plants, m.specs)
+    assert (st["states"], st["transitions"]) == PUBLISHED[name]
+
+
+@pytest.mark.parametrize("name", ["small_factory", "transfer_line", "cat_mouse", "dining_philosophers"])
+def test_explicit_twin_agrees(name):
+    m = classic.load(name)
+    G = X.sync(*m.plants)
+    E = lift_spec(G, X.sync(*m.specs)) if m.specs else X.allevents(G)
+    V = supcon_naive(G, E)
+    assert (V.n_states, V.n_transitions) == PUBLISHED[name]
+
+
+def test_components_match_textbook_shape():
+    agv = classic.load("agv")
+    assert [g.n_states for g in agv.plants] == [4, 8, 4, 6, 4]
+    assert len(agv.specs) == 8
+    assert all(e.controllable == (int(e.name) % 2 == 1) for g in agv.plants for e in g.alphabet)
+    cm = classic.load("cat_mouse")
+    cat, mouse = cm.plants
+    assert cat.uncontrollable == {"c7"} and not mouse.uncontrollable
+    assert cat.state_label(cat.init) == "room2" and mouse.state_label(mouse.init) == "room4"
