@@ -145,3 +145,20 @@ def test_witness_on_a_product_and_from_component_states():
         witness(P, lay, env_choice="random")
     with pytest.raises(InputError):
         witness(P, lay, P.invariant)  # a set, not one state
+
+
+def test_standard_witness_takes_the_lowest_ranked_controllable_successor():
+    """Standard semantics: rank(q) = 1 + max(min_c rank δ(q,c), max_u rank δ(q,u)), so a
+    controllable successor can lie two layers down; the witness takes it (z, not a)."""
+    ev = [Event("a", True), Event("z", True), Event("c", True), Event("u", False)]
+    g = Generator(4, ev, [(0, "a", 2), (0, "z", 1), (0, "u", 3), (2, "c", 1), (3, "c", 1)], 0, [1])
+    G = from_explicit(Context(), g)
+    lay = forcible_layers(G, G.marked, semantics="standard")
+    assert lay.rank(0) == 2
+    assert witness(G, lay) == ["z"] == witness_naive(g, forcible_layers_naive(g, [1], "standard"), 0, "standard")
+    assert list(forcing_paths(G, lay)) == [["z"], ["a", "c"], ["u", "c"]]
+    plan = strategy(G, lay)
+    assert sorted(plan[2]) == ["a", "z"]
+    # preemptive: u is pending at 0, so the environment moves
+    pre = forcible_layers(G, G.marked)
+    assert witness(G, pre) == ["u", "c"]
