@@ -1,0 +1,114 @@
+"""``supcoord force``: the formats.md JSON, exit statuses, .gen files written by
+libFAUDES itself, and agreement with the explicit twin on random generators."""
+
+import json
+
+import faudes
+import pytest
+from supcoord.cli.main import main
+from supcoord.des.generator import Event, Generator
+from supcoord.des.io import write_generator
+from supcoord.synthesis import forcible_layers_naive
+from supcoord.synthesis.forcibility import rank_naive
+from supcoord.synthesis.witness import witness_naive
+
+
+def faudes_write(g: Generator, path, names=False):
+    """Write ``g`` with libFAUDES (states by index 1..n, or named ``s<q>``)."""
+    f = faudes.System()
+    f.Name(g.name)
+    idx = [f.InsState(f"s{q}") if names else f.InsState() for q in range(g.n_states)]
+    ev = {}
+    for e in g.alphabet:
+        ev[e.name] = f.InsEvent(e.name)
+        if e.controllable:
+            f.SetControllable(e.name)
+    for s, e, d in g.transitions():
+        f.SetTransition(idx[s], ev[e], idx[d])
+    if g.init is not None:
+        f.SetInitState(idx[g.init])
+    for q in g.marked:
+        f.SetMarkedState(idx[q])
+    f.Write(str(path))
+
+
+def run_cli(capsys, *argv):
+    code = main(["force", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def chain():
+    ev = [Event("a", True), Event("u", False)]
+    return Generator(4, ev, [(0, "a", 1), (1, "u", 2), (2, "a", 3)], 0, [3], "chain")
+
+
+@pytest.mark.parametrize("names", [False, True])
+def test_force_reads_libfaudes_files(tmp_path, capsys, names):
+    path = tmp_path / "V.gen"
+    faudes_write(chain(), path, names)
+    code, out, _ = run_cli(capsys, path, "--json")
+    assert code == 0
+    assert json.loads(out) == {"status": "ok", "forcible": True, "witness": ["a", "u", "a"], "rank": 3, "layers": [1, 1, 1, 1]}
+    target = "s2" if names else "3"  # the libFAUDES index of the third state
+    code, out, _ = run_cli(capsys, path, "--json", "--target", target)
+    assert code == 0 and json.loads(out)["witness"] == ["a", "u"]
+    code, out, _ = run_cli(capsys, path, "--json", "--semantics", "standard")
+    assert json.loads(out) == {"status": "ok", "forcible": False, "witness": [], "rank": None, "layers": [1, 1]}
+    code, out, _ = run_cli(capsys, path)
+    assert code == 0 and "FORCIBLE" in out and "a u a" in out
+
+
+def test_force_json_state_numbers_and_errors(tmp_path, capsys):
+    path = tmp_path / "V.json"
+    write_generator(chain(), path)
+    code, out, _ = run_cli(capsys, path, "--json", "--target", "2")
+    assert code == 0 and json.loads(out)["witness"] == ["a", "u"]
+    code, out, err = run_cli(capsys, path, "--json", "--target", "7")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "unknown state '7'" in err
+    code, out, err = run_cli(capsys, path, "--target", "nowhere")
+    assert code == 2 and "nowhere" in err
+    code, out, err = run_cli(capsys, tmp_path / "missing.gen")
+    assert code == 2 and err.count("\n") == 1 and "missing.gen" in err
+    bad = tmp_path / "bad.gen"
+    bad.write_text("<Generator> oops")
+    code, out, err = run_cli(capsys, bad)
+    assert code == 2 and err.count("\n") == 1
+
+
+def test_force_budget_exit_3(tmp_path, capsys):
+    path = tmp_path / "V.gen"
+    write_generator(chain(), path)
+    code, out, _ = run_cli(capsys, path, "--json", "--max-nodes", "1")
+    assert code == 3 and json.loads(out)["status"] == "unknown"
+
+
+def test_force_empty_generator(tmp_path, capsys):
+    path = tmp_path / "E.json"
+    write_generator(Generator(0, [Event("a", True)], []), path)
+    code, out, _ = run_cli(capsys, path, "--json")
+    assert code == 0 and json.loads(out) == {"status": "ok", "forcible": False, "witness": [], "rank": None, "layers": [0]}
+
+
+def test_force_cli_random_payloads(tmp_path, capsys):
+    """Random generators written by libFAUDES: the JSON equals the explicit twin's answer
+    (a seeded sample: hypothesis and the function-scoped capsys fixture do not mix)."""
+    import random
+
+    rng = random.Random(7)
+    for i in range(40):
+        n = rng.randint(1, 6)
+        ev = [Event(x, rng.random() < 0.5) for x in "abcd"]
+        t = [(q, e.name, rng.randrange(n)) for q in range(n) for e in ev if rng.random() < 0.5]
+        g = Generator(n, ev, t, 0, rng.sample(range(n), rng.randint(0, n)), f"R{i}")
+        path = tmp_path / f"R{i}.gen"
+        faudes_write(g, path)
+        for semantics in ("preemptive", "standard"):
+            code, out, _ = run_cli(capsys, path, "--json", "--semantics", semantics)
+            got = json.loads(out)
+            naive = forcible_layers_naive(g, g.marked, semantics)
+            assert code == 0
+            assert got["layers"] == [len(x) for x in naive]
+            assert got["rank"] == rank_naive(naive, 0)
+            assert got["forcible"] == (got["rank"] is not None)
+            assert got["witness"] == (witness_naive(g, naive, 0, semantics) or [])
