@@ -1,0 +1,131 @@
+"""Property checks: controllability, nonblocking, determinism (symbolic and explicit).
+
+- ``K`` is **controllable** for ``G`` (events of ``G`` that ``K`` lacks are disabled by
+  ``K``, TCT's meaning) iff no reachable state of ``G × K`` has an uncontrollable event
+  that ``G`` enables and ``G × K`` does not:
+  ``{(g, k) ∈ Reach(G × K) : ∃ u ∈ Σu. δ_G(g, u)! ∧ ¬δ_{G×K}((g, k), u)!} = ∅``,
+  i.e. ``L(K) Σu ∩ L(G) ⊆ L(K)`` on the accessible part.
+- ``G`` is **nonblocking** iff ``Reach(G) ⊆ CoReach(Qm)``.
+- ``G`` is **deterministic** iff no state has two successors on one event:
+  ``¬∃ σ, x, y ≠ y'. R_σ(x, y) ∧ R_σ(x, y')`` — checked bit by bit: two successors
+  exist iff for some written bit ``b`` both ``∃ (bits after b). R_σ ∧ b'`` and
+  ``∃ (bits after b). R_σ ∧ ¬b'`` hold for one ``x`` and one prefix of bits before ``b``.
+
+A symbolic ``K`` may share variables with ``G`` (a supervisor returned by
+:func:`~supcoord.synthesis.supcon` contains ``G``'s variables): shared variables are
+read as the same state component, which is exact when ``K`` tracks ``G``'s state, as
+a supervisor does.  ``K`` with its own variables is the general case.
+
+References
+----------
+- P. J. Ramadge, W. M. Wonham, SIAM J. Control Optim. 25(1), 1987.
+- W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, 2019, §3.4.
+"""
+
+from __future__ import annotations
+
+from ..des.generator import Generator
+from ..des.symbolic import EventRelation, SymbolicGenerator
+from ..errors import InputError, NondeterminismError
+from ..symbolic.context import BDD
+from .reachability import DEFAULT_METHOD, coreachable, coreachable_naive, reachable, reachable_naive
+from .supcon import _product_pairs, check_alphabets
+
+__all__ = [
+    "is_controllable",
+    "is_controllable_naive",
+    "is_nonblocking",
+    "is_nonblocking_naive",
+    "nondeterminism",
+    "check_deterministic",
+]
+
+
+def _observer_product(G: SymbolicGenerator, K: SymbolicGenerator) -> SymbolicGenerator:
+    """``G × K`` over ``Σ_G``; variables of both are one component (``K`` observes them)."""
+    check_alphabets(G.alphabet, K.alphabet, G.name, K.name)
+    ctx = G.ctx
+    if K.ctx is not ctx:
+        raise InputError(f"{K.name!r} lives in another BDD context than {G.name!r}", value=K.name)
+    shared = set(G.variables) & set(K.variables)
+    events = {}
+    for e, rg in G.events.items():
+        rk = K.events.get(e)
+        if rk is None:
+            events[e] = EventRelation(rg.event, ctx.false, rg.writes)
+            continue
+        rel = rg.relation & rk.relation
+        # a shared variable one side writes and the other does not: the other's frame holds
+        rel &= ctx.identity(sorted((set(rk.writes) - set(rg.writes)) & shared))
+        rel &= ctx.identity(sorted((set(rg.writes) - set(rk.writes)) & shared))
+        writes = tuple(dict.fromkeys(tuple(rg.writes) + tuple(rk.writes)))
+        events[e] = EventRelation(rg.event, rel, writes)
+    variables = tuple(G.variables) + tuple(v for v in K.variables if v not in shared)
+    return SymbolicGenerator(
+        ctx, f"{G.name}x{K.name}", variables, events, G.init & K.init, G.marked & K.marked, G.invariant & K.invariant
+    )
+
+
+def is_controllable(G: SymbolicGenerator, K: SymbolicGenerator, *, method: str = DEFAULT_METHOD) -> bool:
+    """Whether ``L(K)`` is controllable with respect to ``L(G)`` and ``Σu``."""
+    P = _observer_product(G, K)
+    bad = G.ctx.false
+    for u in G.uncontrollable:
+        bad |= G.enabled(u) & ~P.enabled(u)  # δ_G(g, u)! ∧ ¬δ_P((g, k), u)!
+    return reachable(P, method=method) & bad == G.ctx.false
+
+
+def is_controllable_naive(G: Generator, K: Generator) -> bool:
+    """Explicit twin of :func:`is_controllable`."""
+    check_alphabets(G.alphabet, K.alphabet, G.name, K.name)
+    pairs, _ = _product_pairs(G, K)
+    for g, k in pairs:
+        for u in G.uncontrollable:
+            if G.successor(g, u) is not None and (u not in K.events or K.successor(k, u) is None):
+                return False
+    return True
+
+
+def is_nonblocking(G: SymbolicGenerator, *, method: str = DEFAULT_METHOD) -> bool:
+    """``Reach(G) ⊆ CoReach_{Reach(G)}(Qm)``."""
+    r = reachable(G, method=method)
+    return r & ~coreachable(G, within=r, method=method) == G.ctx.false
+
+
+def is_nonblocking_naive(G: Generator) -> bool:
+    """Explicit twin of :func:`is_nonblocking`."""
+    r = reachable_naive(G)
+    return r <= coreachable_naive(G, within=r)
+
+
+def nondeterminism(G: SymbolicGenerator) -> tuple[str, dict[str, int]] | None:
+    """An event and a state with two successors on it, or ``None`` if ``G`` is
+    deterministic (also checks that ``q0`` is at most one state)."""
+    ctx = G.ctx
+    if G.variables and ctx.count(G.init & G.invariant, G.variables) > 1:
+        return ("<init>", G.pick(G.init))
+    for name, r in G.events.items():
+        if not r.writes:
+            continue  # the frame alone: at most one successor
+        # transitions whose source and target satisfy the invariant
+        rel = r.relation & G.invariant & ctx.prime(G.invariant, r.writes)
+        pbits = ctx.bits(r.writes, primed=True)
+        for i, b in enumerate(pbits):
+            later = pbits[i:]
+            v = ctx.bdd.var(b)
+            # ∃ later. R ∧ b'  ∧  ∃ later. R ∧ ¬b'  (same x, same earlier bits)
+            both = ctx.bdd.exist(later, rel & v) & ctx.bdd.exist(later, rel & ~v)
+            if both != ctx.false:
+                return (name, ctx.pick(ctx.bdd.exist(pbits, both), G.variables))
+    return None
+
+
+def check_deterministic(G: SymbolicGenerator) -> None:
+    """Raise :class:`NondeterminismError` with ``(event, state)`` if ``G`` is not deterministic."""
+    found = nondeterminism(G)
+    if found is not None:
+        event, state = found
+        raise NondeterminismError(
+            f"generator {G.name!r} is nondeterministic: event {event!r} has two successors at state {state}",
+            value=found,
+        )

@@ -1,0 +1,221 @@
+"""supcon: symbolic == explicit twin == libFAUDES, both conventions; checks; errors."""
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from oracle import faudes_is_controllable, faudes_is_nonblocking, faudes_supcon
+from strategies import alphabets, generators, systems
+
+from supcoord.des import explicit_ops as X
+from supcoord.des import symbolic_ops as S
+from supcoord.des.generator import Event, Generator
+from supcoord.des.symbolic import EventRelation, SymbolicGenerator, from_explicit, to_explicit
+from supcoord.errors import AlphabetError, InputError, NondeterminismError
+from supcoord.symbolic import Context
+from supcoord.synthesis import (
+    METHODS,
+    check_deterministic,
+    is_controllable,
+    is_controllable_naive,
+    is_nonblocking,
+    is_nonblocking_naive,
+    lift_spec,
+    supcon,
+    supcon_naive,
+)
+
+
+def raised(exc_type, fn, *args, **kwargs):
+    """The exception ``fn`` raises, its traceback dropped: a traceback keeps BDD frames
+    alive in a reference cycle, and CUDD complains when the gc frees the manager first."""
+    try:
+        fn(*args, **kwargs)
+    except exc_type as exc:
+        exc.__traceback__ = None
+        return exc
+    raise AssertionError(f"{fn.__name__} did not raise {exc_type.__name__}")
+
+
+def symbolic(ctx, gens):
+    return S.sync(*[from_explicit(ctx, g) for g in gens])
+
+
+def over(alphabet, g):
+    """``g`` with the given (larger) alphabet: the extra events never occur."""
+    extra = [e for e in alphabet if e.name not in g.events]
+    return Generator(g.n_states, g.alphabet + extra, g.transitions(), g.init, g.marked, g.name)
+
+
+@given(systems(), st.sampled_from(METHODS))
+def test_lifted_spec_agrees_with_libfaudes(system, method):
+    """CLI convention: supcon(G, lift_spec(G, E)) == libFAUDES SupCon(G, InvProject(E))."""
+    _, plants, specs = system
+    G, E = X.sync(*plants), X.sync(*specs)
+    oracle = faudes_supcon(G, E)
+    naive = supcon_naive(G, lift_spec(G, E))
+    assert naive.same_as(oracle)
+    ctx = Context()
+    Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
+    result = supcon(Gs, lift_spec(Gs, Es), method=method)
+    V = to_explicit(result.supervisor)
+    assert V.same_as(oracle)
+    st_ = result.stats
+    assert (st_["states"], st_["transitions"], st_["marked"]) == (oracle.n_states, oracle.n_transitions, len(oracle.marked))
+    assert st_["iterations"] >= 1 and st_["bdd_nodes"] >= 1 and st_["seconds"] >= 0
+
+
+@given(systems(), st.sampled_from(METHODS))
+def test_tct_meaning_disables_missing_events(system, method):
+    """Library convention: events E lacks are disabled; libFAUDES agrees once E's
+    alphabet is extended by those events without transitions."""
+    _, plants, specs = system
+    G, E = X.sync(*plants), X.sync(*specs)
+    oracle = faudes_supcon(G, over(G.alphabet, E))
+    naive = supcon_naive(G, E)
+    assert naive.same_as(oracle)
+    ctx = Context()
+    result = supcon(symbolic(ctx, plants), symbolic(ctx, specs), method=method)
+    assert to_explicit(result.supervisor).same_as(oracle)
+
+
+@settings(max_examples=100)
+@given(systems())
+def test_supervisor_is_controllable_and_nonblocking(system):
+    _, plants, specs = system
+    ctx = Context()
+    Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
+    V = supcon(Gs, Es).supervisor
+    assert is_controllable(Gs, V)  # V shares G's variables: it observes G's state
+    assert is_nonblocking(V)
+    Gx, Vx = X.sync(*plants), to_explicit(V)
+    assert is_controllable_naive(Gx, Vx) and is_nonblocking_naive(Vx)
+    assert faudes_is_controllable(Gx, Vx) and faudes_is_nonblocking(Vx)
+
+
+@st.composite
+def plant_and_candidate(draw):
+    alphabet = draw(alphabets())
+    G = draw(generators(alphabet, 4, "G"))
+    K = draw(generators([e for e in alphabet if e.name in G.events], 4, "K"))
+    return G, K
+
+
+@given(plant_and_candidate())
+def test_checks_agree_with_libfaudes(pair):
+    G, K = pair
+    ctx = Context()
+    Gs, Ks = from_explicit(ctx, G), from_explicit(ctx, K)
+    expected = faudes_is_controllable(G, K)
+    assert is_controllable_naive(G, K) == expected
+    assert is_controllable(Gs, Ks) == expected
+    assert is_nonblocking(Gs) == is_nonblocking_naive(G) == faudes_is_nonblocking(G)
+
+
+# -- worked example: the Small Factory (Wonham & Cai), 12 states / 24 transitions ------
+
+
+def small_factory():
+    M1 = Generator.from_tct(3, [(0, 11, 1), (1, 10, 0), (1, 12, 2), (2, 13, 0)], 0, [0], "M1")
+    M2 = Generator.from_tct(3, [(0, 21, 1), (1, 20, 0), (1, 22, 2), (2, 23, 0)], 0, [0], "M2")
+    BUF = Generator.from_tct(2, [(0, 10, 1), (1, 21, 0)], 0, [0], "BUF")
+    BR = Generator.from_tct(2, [(0, 22, 1), (1, 23, 0), (0, 13, 0)], 0, [0], "BR")
+    return [M1, M2], [BUF, BR]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_small_factory(method):
+    plants, specs = small_factory()
+    ctx = Context()
+    Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
+    result = supcon(Gs, lift_spec(Gs, Es), method=method)
+    assert (result.stats["states"], result.stats["transitions"]) == (12, 24)
+    G, E = X.sync(*plants), X.sync(*specs)
+    assert to_explicit(result.supervisor).same_as(faudes_supcon(G, E))
+    # without lifting, TCT's meaning disables every event the specification lacks
+    tct = supcon(Gs, Es, method=method).stats
+    assert (tct["states"], tct["transitions"]) == (1, 0)
+
+
+def test_supervisor_is_product_restricted():
+    plants, specs = small_factory()
+    ctx = Context()
+    Gs, Es = symbolic(ctx, plants), lift_spec(symbolic(ctx, plants), symbolic(ctx, specs))
+    V = supcon(Gs, Es, name="SUP").supervisor
+    assert V.name == "SUP" and V.variables == Gs.variables + Es.variables
+    assert set(V.events) == set(Gs.events)
+    for e, r in V.events.items():
+        assert r.relation == Gs.events[e].relation & Es.events[e].relation
+
+
+# -- errors ------------------------------------------------------------------
+
+
+def test_spec_event_unknown_to_plant():
+    a, z = Event("a", True), Event("z", False)
+    G = Generator(1, [a], [(0, "a", 0)], 0, [0], "G")
+    E = Generator(1, [a, z], [(0, "z", 0)], 0, [0], "E")
+    with pytest.raises(AlphabetError) as info:
+        supcon_naive(G, E)
+    assert info.value.value == "z"
+    ctx = Context()
+    err = raised(AlphabetError, supcon, from_explicit(ctx, G), from_explicit(ctx, E))
+    assert err.value == "z" and "'z'" in str(err)
+
+
+def test_controllability_conflict():
+    G = Generator(1, [Event("a", True)], [], 0, [0], "G")
+    E = Generator(1, [Event("a", False)], [], 0, [0], "E")
+    with pytest.raises(AlphabetError) as info:
+        supcon_naive(G, E)
+    assert info.value.value == "a"
+
+
+def test_empty_plant_alphabet():
+    G = Generator(1, [], [], 0, [0], "EMPTY")
+    E = Generator(1, [], [], 0, [0], "E")
+    with pytest.raises(AlphabetError) as info:
+        supcon_naive(G, E)
+    assert info.value.value == "EMPTY"
+    ctx = Context()
+    raised(AlphabetError, supcon, from_explicit(ctx, G), from_explicit(ctx, E))
+
+
+def test_nondeterministic_input():
+    with pytest.raises(NondeterminismError) as info:
+        Generator(2, [Event("a", True)], [(0, "a", 0), (0, "a", 1)])
+    assert info.value.value == (0, "a", (0, 1))
+    # a symbolic generator built by hand with two successors on one event
+    ctx = Context()
+    ctx.add_variable("x", 3)
+    rel = ctx.eq("x", 0) & (ctx.eq("x", 1, primed=True) | ctx.eq("x", 2, primed=True))
+    ev = Event("a", True)
+    G = SymbolicGenerator(ctx, "N", ("x",), {"a": EventRelation(ev, rel, ("x",))}, ctx.eq("x", 0), ctx.true, ctx.domain(["x"]))
+    assert raised(NondeterminismError, check_deterministic, G).value == ("a", {"x": 0})
+    check_deterministic(from_explicit(ctx, small_factory()[0][0]))  # no error
+
+
+def test_generators_from_other_contexts_are_refused():
+    plants, specs = small_factory()
+    c1, c2 = Context(), Context()
+    raised(InputError, supcon, from_explicit(c1, plants[0]), from_explicit(c2, over(plants[0].alphabet, specs[1])))
+
+
+def test_unknown_method():
+    plants, _ = small_factory()
+    ctx = Context()
+    G = from_explicit(ctx, plants[0])
+    assert raised(InputError, supcon, G, lift_spec(G, S.allevents(ctx, [])), method="dfs").value == "dfs"
+
+
+def test_lift_spec_both_types():
+    plants, specs = small_factory()
+    G = X.sync(*plants)
+    lifted = lift_spec(G, specs[0])
+    assert set(lifted.events) == set(G.events)
+    assert lifted.successor(0, "11") == 0 and lifted.successor(0, "10") == 1
+    ctx = Context()
+    Ls = lift_spec(symbolic(ctx, plants), from_explicit(ctx, specs[0]))
+    assert to_explicit(Ls).same_as(lifted)
+    assert lift_spec(G.alphabet, lifted).same_as(lifted)  # nothing to add
+    with pytest.raises(InputError):
+        lift_spec(G, "not a generator")
