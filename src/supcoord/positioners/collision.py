@@ -98,7 +98,7 @@ def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
     ``|x_a − x_b| < reach_a + reach_b + r_a + r_b``; computed in row chunks (no KD-tree),
     sorted lexicographically.
 
-    >>> neighbour_pairs([[0, 0], [10, 0], [30, 0]], 4.0, 1.0).tolist()
+    >>> neighbour_pairs([[0, 0], [9, 0], [30, 0]], 4.0, 1.0).tolist()
     [[0, 1]]
     """
     xy = np.asarray(bases, float)

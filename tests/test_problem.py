@@ -1,0 +1,201 @@
+"""PROBLEM.json parsing and validation, random problems; fuzzing the parser."""
+
+import copy
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from supcoord.errors import FormatError, InputError
+from supcoord.positioners import Problem, load_problem, parse_problem, random_problem
+from supcoord.positioners.validate import segment_distance_ericson
+
+ROTARY = {
+    "layout": {"kind": "hex", "rings": 1, "pitch": 22.4},
+    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    "collision": {"buffer": 2.0},
+    "start": [0, 0, 0, 0, 0, 0, 0],
+    "target": [6, 6, 6, 6, 6, 6, 6],
+    "priority": [1, 2, 3, 4, 5, 6, 7],
+}
+ALPHA_BETA = {
+    "layout": {"kind": "points", "xy": [[0, 0], [22.4, 0], [11.2, 19.4]]},
+    "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7,
+                   "beta_range": [0, 180]},
+    "collision": {"buffer": 2.0},
+    "start": [[0, 6], [0, 6], [0, 6]],
+    "target": [[3, 3], [6, 0], [9, 6]],
+}
+
+
+def test_parse_and_round_trip():
+    for data in (ROTARY, ALPHA_BETA):
+        p = parse_problem(copy.deepcopy(data), "x.json")
+        again = parse_problem(json.loads(json.dumps(p.to_json())))
+        assert np.array_equal(p.start, again.start) and np.array_equal(p.target, again.target)
+        assert np.allclose(p.bases, again.bases) and p.kinematics == again.kinematics
+        assert p.priority == again.priority
+    p = parse_problem(copy.deepcopy(ALPHA_BETA))
+    assert p.n == 3 and p.start.shape == (3, 2) and p.priority == [1, 2, 3]  # default priority
+
+
+def _mutated(data, path, value):
+    d = copy.deepcopy(data)
+    *head, last = path
+    node = d
+    for key in head:
+        node = node[key]
+    if value is _DELETE:
+        del node[last]
+    else:
+        node[last] = value
+    return d
+
+
+_DELETE = object()
+CASES = [
+    (ROTARY, ("start",), [0] * 6, FormatError, "start has 6 positions"),
+    (ROTARY, ("target", 2), 12, InputError, r"target\[2\]: theta position 12 is out of range"),
+    (ROTARY, ("target", 2), "3", FormatError, r"target\[2\] must be an integer"),
+    (ROTARY, ("target", 2), True, FormatError, r"target\[2\] must be an integer"),
+    (ROTARY, ("priority",), [1, 2], FormatError, "priority must be a list of 7 integers"),
+    (ROTARY, ("priority", 0), 1.5, FormatError, r"priority\[0\]"),
+    (ROTARY, ("layout", "kind"), "square", FormatError, "layout.kind"),
+    (ROTARY, ("kinematics", "kind"), "scara", FormatError, "kinematics.kind"),
+    (ROTARY, ("kinematics", "steps"), 0, InputError, "kinematics.steps"),
+    (ROTARY, ("collision", "buffer"), -1, InputError, "collision.buffer"),
+    (ROTARY, ("collision",), _DELETE, FormatError, "'collision' is missing"),
+    (ROTARY, ("collision", "buffer"), [1, 2], FormatError, "collision.buffer"),
+    (ALPHA_BETA, ("start", 1), [0, 7], InputError, r"start\[1\]: beta position 7 is out of range"),
+    (ALPHA_BETA, ("start", 1), 3, FormatError, r"start\[1\] must be a list of 2 integers"),
+    (ALPHA_BETA, ("kinematics", "beta_range"), [0], InputError, "beta_range"),
+    (ALPHA_BETA, ("layout", "xy", 1), [0, 0], InputError, "repeats"),
+]
+
+
+@pytest.mark.parametrize("data,path,value,exc,message", CASES)
+def test_user_errors_name_field_and_value(data, path, value, exc, message):
+    with pytest.raises(exc, match=message) as info:
+        parse_problem(_mutated(data, path, value), "problem.json")
+    assert info.value.where == "problem.json"
+    assert str(info.value).startswith("problem.json: ")
+
+
+def test_colliding_start_and_target_name_the_positioners():
+    d = _mutated(ROTARY, ("start",), [0, 6, 0, 0, 0, 0, 0])  # centre points +x, positioner 1 (on +x) points −x
+    with pytest.raises(InputError, match=r"start configuration collides: positioners 0 and 1") as info:
+        parse_problem(d, "p.json")
+    assert info.value.value == [0, 1]
+    d = _mutated(ALPHA_BETA, ("target",), [[0, 0], [6, 0], [0, 6]])  # 0 and 1 reach straight at each other
+    with pytest.raises(InputError, match=r"target configuration collides: positioners 0 and 1"):
+        parse_problem(d, "p.json")
+
+
+def test_load_problem_file_errors(tmp_path):
+    with pytest.raises(InputError, match="problem file not found"):
+        load_problem(tmp_path / "missing.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text("{\"layout\": ")
+    with pytest.raises(FormatError, match="not valid JSON") as info:
+        load_problem(bad)
+    assert info.value.where == str(bad)
+    bad.write_bytes(b"\xff\xfe\x00")
+    with pytest.raises(FormatError):
+        load_problem(bad)
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(ROTARY))
+    assert isinstance(Problem.load(good), Problem)
+
+
+def _ericson_collisions(p):
+    seg = p.kinematics.segments(p.start) + p.bases[:, None]
+    tgt = p.kinematics.segments(p.target) + p.bases[:, None]
+    out = 0
+    for s in (seg, tgt):
+        for a in range(p.n):
+            for b in range(a + 1, p.n):
+                if segment_distance_ericson(s[a, 0], s[a, 1], s[b, 0], s[b, 1]) < p.buffers[a] + p.buffers[b]:
+                    out += 1
+    return out
+
+
+@pytest.mark.parametrize("kin", [ROTARY["kinematics"], ALPHA_BETA["kinematics"]], ids=["rotary", "alpha-beta"])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_random_problems_are_collision_free_and_deterministic(kin, seed):
+    layout = {"kind": "hex", "rings": 2, "pitch": 22.4}
+    p = random_problem(layout, kin, 2.0, seed)
+    q = random_problem(layout, kin, 2.0, seed)
+    assert np.array_equal(p.start, q.start) and np.array_equal(p.target, q.target) and p.priority == q.priority
+    assert json.dumps(p.to_json()) == json.dumps(q.to_json())
+    assert _ericson_collisions(p) == 0
+    assert sorted(p.priority) == list(range(1, 20))
+    r = random_problem(layout, kin, 2.0, seed + 100)
+    assert not (np.array_equal(p.start, r.start) and np.array_equal(p.target, r.target))
+
+
+def test_random_problem_near_and_too_dense():
+    layout = {"kind": "hex", "rings": 2, "pitch": 22.4}
+    p = random_problem(layout, ALPHA_BETA["kinematics"], 2.0, 4, near=1, priority="index")
+    assert np.all(p.kinematics.joint_distance(p.start, p.target) <= 1)
+    assert p.priority == list(range(1, 20))
+    with pytest.raises(InputError, match="collision-free configuration"):
+        random_problem({"kind": "hex", "rings": 1, "pitch": 1.0}, ROTARY["kinematics"], 2.0, 0, attempts=3)
+
+
+# --- fuzzing: any mutation of a valid file raises only InputError/FormatError --------------
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers(-10**20, 10**20) | st.floats(allow_nan=True) | st.text(max_size=5),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children, max_size=3),
+    max_leaves=8,
+)
+small_values = st.sampled_from([0, 1, -1, 2, 3, 6, 7, 11, 12, 13, 0.5, 1e308, -0.0, True, None, "x", [], {}, [0, 0],
+                                [1, 2, 3], "hex", "points", "rotary", "alpha-beta"])
+
+
+def _paths(node, prefix=()):
+    yield prefix
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _paths(v, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _paths(v, prefix + (i,))
+
+
+@st.composite
+def mutated_problems(draw):
+    data = copy.deepcopy(draw(st.sampled_from([ROTARY, ALPHA_BETA])))
+    for _ in range(draw(st.integers(1, 3))):
+        paths = [p for p in _paths(data) if p]
+        if not paths:
+            break
+        path = draw(st.sampled_from(paths))
+        action = draw(st.sampled_from(["replace", "replace", "small", "delete", "append"]))
+        *head, last = path
+        node = data
+        for key in head:
+            node = node[key]
+        if action == "delete":
+            del node[last]
+        elif action == "append" and isinstance(node[last], list):
+            node[last].append(draw(small_values))
+        elif action == "small":
+            node[last] = draw(small_values)
+        else:
+            node[last] = draw(json_values)
+    return data
+
+
+@settings(max_examples=300)
+@given(mutated_problems())
+def test_fuzz_parser_raises_only_user_errors(data):
+    try:
+        p = parse_problem(data, "fuzz.json")
+    except (InputError, FormatError) as exc:
+        assert exc.where == "fuzz.json"
+        assert "\n" not in exc.one_line()
+        return
+    assert p.start.shape == p.target.shape == (p.n, p.kinematics.n_joints)

@@ -1,0 +1,195 @@
+"""The independent validator; plans built on the collision tables; compaction; PLAN.json."""
+
+import copy
+import json
+from collections import deque
+
+import numpy as np
+import pytest
+
+from supcoord.errors import FormatError, InputError
+from supcoord.positioners import (
+    Plan,
+    compact_moves,
+    event_name,
+    load_plan,
+    lower_bound,
+    parse_event,
+    parse_plan,
+    parse_problem,
+    plan_from_moves,
+    validate_plan,
+)
+from supcoord.positioners.plan import apply_moves
+
+# the seed paper's picture: three rotary positioners in a row, arms long enough to meet
+THREE = {
+    "layout": {"kind": "points", "xy": [[0, 0], [22.4, 0], [44.8, 0]]},
+    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    "collision": {"buffer": 2.0},
+    "start": [0, 0, 0],
+    "target": [6, 6, 6],
+    "priority": [1, 2, 3],
+}
+TWO_AB = {
+    "layout": {"kind": "points", "xy": [[0, 0], [22.4, 0]]},
+    "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7,
+                   "beta_range": [0, 180]},
+    "collision": {"buffer": 2.0},
+    "start": [[0, 6], [6, 6]],
+    "target": [[6, 0], [0, 0]],
+}
+
+
+def bfs_moves(problem):
+    """Shortest single-move sequence start → target allowed by the swept tables (explicit BFS)."""
+    kin, tables = problem.kinematics, problem.tables()
+    nbrs = [tables.neighbours_of(p) for p in range(problem.n)]
+    start = tuple(int(i) for i in kin.flat_index(problem.start))
+    goal = tuple(int(i) for i in kin.flat_index(problem.target))
+    pos = kin.all_positions()
+    parent = {start: None}
+    queue = deque([start])
+    while queue:
+        s = queue.popleft()
+        if s == goal:
+            break
+        for p in range(problem.n):
+            for m, (joint, delta) in enumerate(kin.moves()):
+                nxt = kin.step(pos[s[p]], joint, delta)
+                if nxt is None:
+                    continue
+                blocked = False
+                for k, other, side in nbrs[p]:
+                    i, j = (s[p], s[other]) if side == 0 else (s[other], s[p])
+                    if tables.swept(k, side)[m, i, j]:
+                        blocked = True
+                        break
+                if blocked:
+                    continue
+                t = s[:p] + (int(kin.flat_index(nxt)),) + s[p + 1:]
+                if t not in parent:
+                    parent[t] = (s, (p, joint, delta))
+                    queue.append(t)
+    if goal not in parent:
+        return None
+    moves, s = [], goal
+    while parent[s] is not None:
+        s, mv = parent[s]
+        moves.append(mv)
+    return moves[::-1]
+
+
+@pytest.fixture(scope="module")
+def three():
+    return parse_problem(copy.deepcopy(THREE), "three.json")
+
+
+@pytest.fixture(scope="module")
+def three_moves(three):
+    return bfs_moves(three)
+
+
+def test_table_plans_pass_the_validator(three, three_moves):
+    assert three_moves is not None
+    single = Plan("complete", apply_moves(three, three_moves), lower_bound=lower_bound(three))
+    result = validate_plan(three, single)
+    assert result["valid"], result["problems"]
+    assert result["collisions"] == 0 and result["at_target"] == 3 and result["min_clearance"] >= 0
+    plan = plan_from_moves(three, three_moves)
+    assert plan.makespan < len(three_moves) and plan.makespan >= plan.lower_bound == 6
+    result = validate_plan(three, plan)
+    assert result["valid"], result["problems"]
+    assert [parse_event(three.kinematics, e) for e in plan.events] == list(three_moves)
+
+
+def test_alpha_beta_table_plan_passes_the_validator():
+    p = parse_problem(copy.deepcopy(TWO_AB))
+    moves = bfs_moves(p)
+    assert moves is not None
+    plan = plan_from_moves(p, moves)
+    result = validate_plan(p, plan)
+    assert result["valid"], result["problems"]
+    assert plan.makespan >= lower_bound(p) == 6
+
+
+def test_validator_catches_collisions(three):
+    # 0 points at 1 (+x) while 1 turns round to point back at 0 (−x)
+    confs = [np.array([[0], [k % 12], [0]]) for k in range(0, -7, -1)]
+    result = validate_plan(three, Plan("complete", confs))
+    assert not result["valid"] and result["collisions"] > 0
+    assert any("positioners 0 and 1 collide" in p for p in result["problems"])
+
+
+def test_validator_catches_swept_collision_that_end_points_miss():
+    data = {"layout": {"kind": "points", "xy": [[0, 0], [5, -5]]},
+            "kinematics": {"kind": "rotary", "arm": 10.0, "steps": 4},
+            "collision": {"buffer": 1.0}, "start": [0, 0], "target": [1, 0]}
+    p = parse_problem(data)
+    result = validate_plan(p, Plan("complete", [np.array([[0], [0]]), np.array([[1], [0]])]))
+    assert not result["valid"] and result["collisions"] == 1
+    assert "step 0->1: positioners 0 and 1 collide" in result["problems"][0]
+    assert result["min_clearance"] < -1.9  # a's arm passes through b's base
+
+
+def test_validator_catches_jumps_and_wrong_ends(three, three_moves):
+    good = apply_moves(three, three_moves)
+    jump = good[:2] + good[3:]
+    assert any("more than one step" in p for p in validate_plan(three, Plan("complete", jump))["problems"])
+    r = validate_plan(three, Plan("complete", good[1:]))
+    assert not r["valid"] and any("not the start" in p for p in r["problems"])
+    r = validate_plan(three, Plan("complete", good[:-1]))
+    assert not r["valid"] and r["at_target"] == 2 and any("not the target" in p for p in r["problems"])
+    r = validate_plan(three, Plan("complete", good, makespan=3))
+    assert any("makespan is 3" in p for p in r["problems"])
+    bad = [c.copy() for c in good]
+    bad[1][0, 0] = 12
+    assert any("out of the joint ranges" in p for p in validate_plan(three, Plan("complete", bad))["problems"])
+    r = validate_plan(three, Plan("infeasible", [], reason="blocked"))
+    assert not r["valid"] and r["at_target"] == 0 and "blocked" in r["problems"][0]
+
+
+def test_wrap_is_one_step():
+    data = {"layout": {"kind": "points", "xy": [[0, 0]]}, "kinematics": {"kind": "rotary", "arm": 5.0, "steps": 12},
+            "collision": {"buffer": 1.0}, "start": [11], "target": [1]}
+    p = parse_problem(data)
+    assert lower_bound(p) == 2
+    plan = plan_from_moves(p, [(0, 0, 1), (0, 0, 1)])
+    assert [c.ravel().tolist() for c in plan.configurations] == [[11], [0], [1]]
+    assert plan.events == ["v0", "v0"]
+    assert validate_plan(p, plan)["valid"]
+
+
+def test_compaction_merges_independent_moves(three):
+    # positioners 0 and 2 are 44.8 mm apart: moves of 0 and 2 alone never collide
+    moves = [(0, 0, 1), (2, 0, 1), (0, 0, 1), (2, 0, 1)]
+    confs = compact_moves(three, moves)
+    assert [c.ravel().tolist() for c in confs] == [[0, 0, 0], [1, 0, 1], [2, 0, 2]]
+    with pytest.raises(InputError, match="move 0"):
+        compact_moves(three, [(5, 0, 1)])
+    with pytest.raises(InputError, match="target"):
+        plan_from_moves(three, moves)
+
+
+def test_events_and_plan_json(tmp_path, three, three_moves):
+    ab = parse_problem(copy.deepcopy(TWO_AB)).kinematics
+    assert event_name(ab, 3, 1, -1) == "wb3" and parse_event(ab, "va12") == (12, 0, 1)
+    with pytest.raises(InputError, match="unknown move event"):
+        parse_event(ab, "v3")
+    plan = plan_from_moves(three, three_moves, stats={"seconds": 0.0})
+    path = tmp_path / "plan.json"
+    plan.dump(path, three.kinematics)
+    back = load_plan(path, three)
+    assert back.status == "complete" and back.events == plan.events and back.makespan == plan.makespan
+    assert all(np.array_equal(a, b) for a, b in zip(back.configurations, plan.configurations))
+    data = json.loads(path.read_text())
+    for key, value, message in [("status", "done", "status"), ("configurations", [[0, 0]], r"configurations\[0\]"),
+                                ("configurations", [[0, 0, "a"]], r"configurations\[0\]\[2\]"),
+                                ("makespan", "3", "makespan"), ("events", [1], "events")]:
+        bad = dict(data, **{key: value})
+        with pytest.raises(FormatError, match=message):
+            parse_plan(bad, three, "plan.json")
+    with pytest.raises(FormatError, match="JSON object"):
+        parse_plan([], three)
+    with pytest.raises(InputError, match="plan file not found"):
+        load_plan(tmp_path / "none.json", three)
