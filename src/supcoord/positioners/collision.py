@@ -58,18 +58,20 @@ DEFAULT_TOL = 1e-3
 CHUNK = 1 << 16
 
 
-def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+def _psd(px, py, ax, ay, bx, by):
+    """Point–segment distance on components (arrays broadcast)."""
+    ux, uy = bx - ax, by - ay
+    wx, wy = px - ax, py - ay
+    den = ux * ux + uy * uy
+    t = np.clip((wx * ux + wy * uy) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    dx, dy = wx - t * ux, wy - t * uy
+    return np.sqrt(dx * dx + dy * dy)
 
 
 def point_segment_distance(p: Any, a: Any, b: Any) -> np.ndarray:
     """Distance from points ``p`` to segments ``[a, b]`` (``(..., 2)`` arrays, broadcast)."""
     p, a, b = np.asarray(p, float), np.asarray(a, float), np.asarray(b, float)
-    ab = b - a
-    den = np.einsum("...i,...i->...", ab, ab)
-    t = np.einsum("...i,...i->...", p - a, ab) / np.where(den > 0, den, 1.0)
-    t = np.clip(np.where(den > 0, t, 0.0), 0.0, 1.0)
-    return np.linalg.norm(a + t[..., None] * ab - p, axis=-1)
+    return _psd(p[..., 0], p[..., 1], a[..., 0], a[..., 1], b[..., 0], b[..., 1])
 
 
 def segment_distance(p0: Any, p1: Any, q0: Any, q1: Any) -> np.ndarray:
@@ -81,13 +83,15 @@ def segment_distance(p0: Any, p1: Any, q0: Any, q1: Any) -> np.ndarray:
     0.0
     """
     p0, p1, q0, q1 = (np.asarray(v, float) for v in (p0, p1, q0, q1))
-    d = np.minimum(
-        np.minimum(point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1)),
-        np.minimum(point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)),
-    )
-    u, v = p1 - p0, q1 - q0
-    o1, o2 = _cross(u, q0 - p0), _cross(u, q1 - p0)
-    o3, o4 = _cross(v, p0 - q0), _cross(v, p1 - q0)
+    ax, ay, bx, by = p0[..., 0], p0[..., 1], p1[..., 0], p1[..., 1]
+    cx, cy, dx, dy = q0[..., 0], q0[..., 1], q1[..., 0], q1[..., 1]
+    d = np.minimum(np.minimum(_psd(ax, ay, cx, cy, dx, dy), _psd(bx, by, cx, cy, dx, dy)),
+                   np.minimum(_psd(cx, cy, ax, ay, bx, by), _psd(dx, dy, ax, ay, bx, by)))
+    ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
+    o1 = ux * (cy - ay) - uy * (cx - ax)  # side of q0 w.r.t. line p
+    o2 = ux * (dy - ay) - uy * (dx - ax)  # side of q1
+    o3 = vx * (ay - cy) - vy * (ax - cx)  # side of p0 w.r.t. line q
+    o4 = vx * (by - cy) - vy * (bx - cx)  # side of p1
     crossing = (o1 * o2 < 0) & (o3 * o4 < 0)
     return np.where(crossing, 0.0, d)
 

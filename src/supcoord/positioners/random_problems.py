@@ -54,9 +54,10 @@ def random_configuration(kin: Kinematics, bases: Any, buffers: Any, rng: np.rand
         for p in range(n):
             free = np.ones(len(positions), dtype=bool) if allowed is None else allowed[p].copy()
             mine = local + bases[p]
-            for b in earlier[p]:
-                d = segment_distance(mine[:, 0], mine[:, 1], seg[b, 0], seg[b, 1])
-                free &= d >= buffers[p] + buffers[b]
+            if earlier[p]:
+                nb = np.array(earlier[p])
+                d = segment_distance(mine[:, None, 0], mine[:, None, 1], seg[nb, 0], seg[nb, 1])  # (C, K)
+                free &= np.all(d >= buffers[p] + buffers[nb], axis=1)
             choices = np.nonzero(free)[0]
             if len(choices) == 0:
                 ok = False

@@ -56,11 +56,7 @@ def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
     """
     p1, q1, p2, q2 = (np.asarray(v, float) for v in (p1, q1, p2, q2))
     d1, d2, r = q1 - p1, q2 - p2, p1 - p2
-    a = np.sum(d1 * d1, axis=-1)
-    e = np.sum(d2 * d2, axis=-1)
-    f = np.sum(d2 * r, axis=-1)
-    c = np.sum(d1 * r, axis=-1)
-    b = np.sum(d1 * d2, axis=-1)
+    a, e, f, c, b = _dot(d1, d1), _dot(d2, d2), _dot(d2, r), _dot(d1, r), _dot(d1, d2)
     tiny = 1e-300
     denom = a * e - b * b
     # s on segment 1 from the infinite lines' closest points, clamped (0 when parallel)
@@ -75,7 +71,7 @@ def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
     s = np.where(t_lo, s_lo, np.where(t_hi, s_hi, s))
     c1 = p1 + s[..., None] * d1
     c2 = p2 + t[..., None] * d2
-    d = np.sqrt(np.sum((c1 - c2) ** 2, axis=-1))
+    d = np.sqrt(_dot(c1 - c2, c1 - c2))
     # nearly parallel segments (the cancellation in a·e − b²) can leave s off its optimum;
     # the distance is then attained at an end point, so the four end-point distances repair it
     ends = [_to_segment(p1, p2, d2, e), _to_segment(q1, p2, d2, e), _to_segment(p2, p1, d1, a), _to_segment(q2, p1, d1, a)]
@@ -83,9 +79,14 @@ def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
 
 
 def _to_segment(x: np.ndarray, start: np.ndarray, direction: np.ndarray, length2: np.ndarray) -> np.ndarray:
-    u = np.sum((x - start) * direction, axis=-1) / np.where(length2 > 0, length2, 1.0)
+    u = _dot(x - start, direction) / np.where(length2 > 0, length2, 1.0)
     u = np.clip(u, 0.0, 1.0)
-    return np.sqrt(np.sum((start + u[..., None] * direction - x) ** 2, axis=-1))
+    w = start + u[..., None] * direction - x
+    return np.sqrt(_dot(w, w))
+
+
+def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
 
 
 def _arm(kin: dict, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
