@@ -172,3 +172,11 @@ def test_distance_table_matches_segments():
     sb = placed_segments(kin, (9.0, 3.0), pos)
     i, j = 17, 33
     assert math.isclose(D[i, j], float(segment_distance(sa[i, 0], sa[i, 1], sb[j, 0], sb[j, 1])))
+
+
+def test_too_fine_discretisation_is_a_user_error():
+    from supcoord.errors import InputError
+
+    kin = AlphaBeta(7.4, 15.0, 360, 181, (0.0, 180.0))
+    with pytest.raises(InputError, match="fewer steps per joint"):
+        static_table(kin, (0, 0), (22.4, 0), 4.0)

@@ -6,6 +6,8 @@ from collections import deque
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from supcoord.errors import FormatError, InputError
 from supcoord.positioners import (
@@ -193,3 +195,34 @@ def test_events_and_plan_json(tmp_path, three, three_moves):
         parse_plan([], three)
     with pytest.raises(InputError, match="plan file not found"):
         load_plan(tmp_path / "none.json", three)
+
+
+plan_values = st.recursive(
+    st.none() | st.booleans() | st.integers(-20, 20) | st.floats(allow_nan=False) | st.text(max_size=4),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=8), children, max_size=3),
+    max_leaves=10,
+)
+
+
+@st.composite
+def plan_objects(draw):
+    confs = draw(st.lists(st.lists(st.integers(-2, 14), min_size=3, max_size=3), max_size=5))
+    data = {"status": draw(st.sampled_from(["complete", "infeasible", "unknown"])), "configurations": confs}
+    if draw(st.booleans()):
+        data[draw(st.sampled_from(["status", "configurations", "makespan", "events", "reason", "stats"]))] = \
+            draw(plan_values)
+    return data
+
+
+@settings(max_examples=150)
+@given(plan_objects())
+def test_fuzz_plans_give_an_answer_or_a_format_error(data):
+    problem = parse_problem(copy.deepcopy(THREE))
+    try:
+        plan = parse_plan(data, problem, "plan.json")
+    except FormatError as exc:
+        assert exc.where == "plan.json"
+        return
+    result = validate_plan(problem, plan)
+    assert isinstance(result["valid"], bool) and result["collisions"] >= 0 and 0 <= result["at_target"] <= 3
+    assert not result["valid"] or (plan.configurations and np.array_equal(plan.configurations[-1], problem.target))

@@ -54,6 +54,9 @@ __all__ = [
 
 #: default tolerance (mm) of the swept certificate
 DEFAULT_TOL = 1e-3
+#: largest table (position pairs of one neighbour pair) built explicitly; finer
+#: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
+MAX_TABLE_ENTRIES = 50_000_000
 #: entries handled per chunk (bounds memory: ~ CHUNK × samples × a few floats)
 CHUNK = 1 << 16
 
@@ -132,11 +135,7 @@ def placed_segments(kin: Kinematics, base: Any, q: Any) -> np.ndarray:
 def static_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float,
                  kin_b: Kinematics | None = None) -> np.ndarray:
     """``T[i, j]``: positioner ``a`` at position ``i`` collides with ``b`` at ``j`` (flat indices)."""
-    kin_b = kin_b or kin
-    sa = placed_segments(kin, base_a, kin.all_positions())
-    sb = placed_segments(kin_b, base_b, kin_b.all_positions())
-    d = segment_distance(sa[:, None, 0], sa[:, None, 1], sb[None, :, 0], sb[None, :, 1])
-    return d < bsum
+    return distance_table(kin, base_a, base_b, kin_b) < bsum
 
 
 def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
@@ -191,6 +190,9 @@ def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
 def distance_table(kin: Kinematics, base_a: Any, base_b: Any, kin_b: Kinematics | None = None) -> np.ndarray:
     """``D[i, j]`` = distance between the colliding segments of ``a`` at ``i`` and ``b`` at ``j``."""
     kin_b = kin_b or kin
+    if kin.n_positions * kin_b.n_positions > MAX_TABLE_ENTRIES:
+        raise InputError(f"a collision table of {kin.n_positions} x {kin_b.n_positions} positions exceeds "
+                         f"{MAX_TABLE_ENTRIES} entries; use fewer steps per joint", value=kin.n_positions)
     sa = placed_segments(kin, base_a, kin.all_positions())
     sb = placed_segments(kin_b, base_b, kin_b.all_positions())
     out = np.empty((len(sa), len(sb)))
