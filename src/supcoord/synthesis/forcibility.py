@@ -130,6 +130,26 @@ class Layers:
         return self.generator.invariant
 
 
+@dataclass(frozen=True)
+class _Cluster:
+    """Events of one controllability with one write set, their relations OR-ed:
+    ``Pre`` over the union is the union of the ``Pre`` (same frame, same primed bits)."""
+
+    controllable: bool
+    writes: tuple[str, ...]
+    relation: BDD
+    primed_bits: tuple[str, ...]
+
+
+def clusters(G: SymbolicGenerator) -> list[_Cluster]:
+    """``G``'s events grouped by (controllable, write set), in first-seen order."""
+    groups: dict[tuple[bool, tuple[str, ...]], BDD] = {}
+    for r in G.events.values():
+        key = (r.event.controllable, tuple(r.writes))
+        groups[key] = groups.get(key, G.ctx.false) | r.relation
+    return [_Cluster(c, w, rel, tuple(G.ctx.bits(w, primed=True))) for (c, w), rel in groups.items()]
+
+
 def uncontrollable_enabled(G: SymbolicGenerator) -> BDD:
     """``{q ∈ Q : U(q) ≠ ∅} = ⋁_u Pre_u(Q)``."""
     out = G.ctx.false
@@ -138,16 +158,34 @@ def uncontrollable_enabled(G: SymbolicGenerator) -> BDD:
     return out
 
 
-def force(G: SymbolicGenerator, W: BDD, Q: BDD, env_states: BDD, semantics: str) -> BDD:
-    """``Force(W)`` inside ``Q`` (see the module docstring for both semantics)."""
-    not_w = G.invariant & ~W
-    bad_u = G.ctx.false
-    for u in G.uncontrollable:
-        bad_u |= G.pre(not_w, u)  # ∃u ∈ U(q). δ(q,u) ∉ W
+def force(G: SymbolicGenerator, W: BDD, Q: BDD, env_states: BDD, semantics: str,
+          groups: Sequence[_Cluster] | None = None) -> BDD:
+    """``Force(W)`` inside ``Q`` (see the module docstring for both semantics).
+
+    ``Pre_σ(X) = ∃x'_W. R_σ ∧ X[x_W := x'_W]``; each write set is primed once per call
+    and serves both ``Pre_c(W)`` and ``Pre_u(Q_G \\ W)``, since
+    ``(Q_G \\ W)[x_W := x'_W] = Q_G[x_W := x'_W] ∧ ¬W[x_W := x'_W]``.
+    """
+    ctx = G.ctx
+    inv = G.invariant
+    primed: dict[tuple[str, ...], tuple[BDD, BDD]] = {}
+
+    def targets(writes: tuple[str, ...]) -> tuple[BDD, BDD]:
+        t = primed.get(writes)
+        if t is None:
+            w_p = ctx.prime(W & inv, writes)
+            t = primed[writes] = (w_p, ctx.prime(inv, writes) & ~w_p)
+        return t
+
+    bad_u = ctx.false
+    some_c = ctx.false
+    for cl in clusters(G) if groups is None else groups:
+        w_p, not_w_p = targets(cl.writes)
+        if cl.controllable:
+            some_c |= ctx.and_exist(cl.relation, w_p, cl.primed_bits)  # ∃c ∈ C(q). δ(q,c) ∈ W
+        else:
+            bad_u |= ctx.and_exist(cl.relation, not_w_p, cl.primed_bits)  # ∃u ∈ U(q). δ(q,u) ∉ W
     all_u_ok = Q & ~bad_u  # ∀u ∈ U(q). δ(q,u) ∈ W
-    some_c = G.ctx.false
-    for c in G.controllable:
-        some_c |= G.pre(W, c)  # ∃c ∈ C(q). δ(q,c) ∈ W
     if semantics == "preemptive":
         return (env_states & all_u_ok) | (Q & ~env_states & some_c)
     return Q & some_c & all_u_ok
@@ -174,6 +212,7 @@ def forcible_layers(
     started = time.perf_counter()
     Q = G.invariant if within is None else G.invariant & within
     env_states = uncontrollable_enabled(G)
+    groups = clusters(G)
     stop = None if stop_at is None else as_states(G, stop_at)
     w = as_states(G, target) & Q
     layers = [w]
@@ -186,7 +225,7 @@ def forcible_layers(
             complete = False
             break
         xold = w
-        w = xold | force(G, xold, Q, env_states, semantics)  # W(k+1) = W(k) ∪ Force(W(k))
+        w = xold | force(G, xold, Q, env_states, semantics, groups)  # W(k+1) = W(k) ∪ Force(W(k))
         if w != xold:
             layers.append(w & ~xold)  # L(k+1) = W(k+1) \ W(k)
             k += 1
