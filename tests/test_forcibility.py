@@ -224,3 +224,20 @@ def test_ccc_on_empty_and_trivial_generators():
     r = ccc(one)
     assert (r.forcible, r.rank, r.witness, r.layers) == (True, 0, [], [1])
     assert r.to_json() == {"status": "ok", "forcible": True, "witness": [], "rank": 0, "layers": [1]}
+
+
+def test_ccc_early_stop_and_bfa_by_component_states():
+    ctx = Context()
+    comps = []
+    for i in range(2):
+        g = Generator(3, [Event(f"c{i}", True)], [(0, f"c{i}", 1), (1, f"c{i}", 2)], 0, [2], f"K{i}")
+        comps.append(from_explicit(ctx, g, f"k{i}"))
+    P = S.sync(*comps)
+    full, early = ccc(P), ccc(P, full=False)
+    assert full.layers == [1, 2, 3, 2, 1] and full.stats["complete"]
+    assert (early.rank, early.witness, early.layers) == (4, full.witness, [1, 2, 3, 2, 1])
+    from_mid = ccc(P, target=[{"k0": 1}, {"k1": 1}])
+    assert (from_mid.rank, from_mid.witness) == (2, ["c0", "c1"])
+    dag = bfa(P, [{"k0": 1}, {"k1": 0}], {"k0": 2, "k1": 2})
+    assert [P.count_states(x) for x in dag.layers] == [1, 2, 2, 1]
+    assert dag.rank({"k0": 1, "k1": 0}) == 3 and dag.rank({"k0": 0, "k1": 0}) is None

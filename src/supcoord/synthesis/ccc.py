@@ -59,6 +59,16 @@ def ccc(V: SymbolicGenerator, semantics: str = "preemptive", *, target: Any = No
 
     ``full=False`` stops the fixpoint as soon as ``q0`` is won (the layer sizes are then
     those of ``W(rank(q0))``).  An empty ``V`` (no initial state) is not forcible.
+
+    >>> from supcoord.des.generator import Event, Generator
+    >>> from supcoord.des.symbolic import from_explicit
+    >>> from supcoord.symbolic import Context
+    >>> g = Generator(3, [Event("a", True), Event("u", False)], [(0, "a", 1), (1, "u", 2)], 0, [2])
+    >>> r = ccc(from_explicit(Context(), g))
+    >>> r.forcible, r.witness, r.rank, r.layers
+    (True, ['a', 'u'], 2, [1, 1, 1])
+    >>> ccc(from_explicit(Context(), g), "standard").forcible  # u alone at 1: no event to force
+    False
     """
     started = time.perf_counter()
     T = V.marked if target is None else target
