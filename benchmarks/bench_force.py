@@ -1,0 +1,195 @@
+"""Benchmark: backtracking forcibility through products of 10^7 … 10^21 states.
+
+The family ("staircases with gusts"), scalable in the number ``N`` of components:
+component ``i`` has positions ``0 … m-1`` (target ``m-1``) and a trap ``m``, so
+``(m+1)^N`` product states; with ``m = 7`` each component is 3 bits:
+
+- ``up_i`` (controllable): ``j → j+1``;   ``skip_i`` (controllable): ``j → j+2``
+  (neither at ``j = 5``, where the arm only waits for its setback, so the two
+  semantics differ: 5 is won under preemptive semantics, lost under standard);
+- ``back_i`` (uncontrollable) at ``j ∈ {1, 5}``: ``j → j-1`` (a setback);
+- ``fail_i`` (uncontrollable) at ``j = 3``: ``j → m`` (the trap: never won);
+- ``gust`` (uncontrollable, shared by all components) at ``j ∈ {2, 4}``: ``j → j-2``;
+  in the product it is defined only when *every* component is at 2 or 4.
+
+Target: every component at ``m-1``; source: every component at ``0``.  One component
+alone is not forcible from 0 (its gust sends 2 and 4 back to 0, and the other routes
+cross 3 or go back via ``back``), yet for ``N ≥ 2`` the product is: the controller
+never lets all components stand at 2 or 4 together.  So the product's winning set is
+far larger than the product of the components' (empty-from-0) winning sets: the
+benchmark cannot be answered component by component (design.md §3).
+
+Each run is a separate process (``--run``) so peak RSS is per run.  ``--check`` first
+compares the symbolic layers with the explicit twin on small instances.
+
+    python benchmarks/bench_force.py                  # the table in results/force.md
+    python benchmarks/bench_force.py --sizes 8 12 --semantics preemptive
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+
+M = 7  # positions 0..6, trap 7: 8 states, 3 bits per component
+
+
+def component(i: int, m: int = M):
+    from supcoord.des.generator import Event, Generator
+
+    ev = [Event(f"up{i}", True), Event(f"skip{i}", True), Event(f"back{i}", False), Event(f"fail{i}", False),
+          Event("gust", False)]
+    t = []
+    for j in range(m - 1):
+        if j != 5:  # at 5 the arm waits for its setback: no controllable move
+            t.append((j, f"up{i}", j + 1))
+        if j + 2 <= m - 1 and j != 5:
+            t.append((j, f"skip{i}", j + 2))
+        if j in (1, 5):
+            t.append((j, f"back{i}", j - 1))
+        if j == 3:
+            t.append((j, f"fail{i}", m))
+        if j in (2, 4):
+            t.append((j, "gust", j - 2))
+    return Generator(m + 1, ev, t, 0, [m - 1], f"K{i}")
+
+
+def build(n: int, ctx):
+    from supcoord.des import symbolic_ops as S
+    from supcoord.des.symbolic import from_explicit
+
+    return S.sync(*[from_explicit(ctx, component(i), f"k{i}") for i in range(n)], name=f"stairs{n}")
+
+
+def run_one(n: int, semantics: str) -> dict:
+    from supcoord.symbolic import Context
+    from supcoord.synthesis import forcible_layers, witness
+
+    t0 = time.perf_counter()
+    ctx = Context("cudd")
+    G = build(n, ctx)
+    t1 = time.perf_counter()
+    c1 = time.process_time()
+    lay = forcible_layers(G, G.marked, semantics=semantics)
+    t2 = time.perf_counter()
+    c2 = time.process_time()
+    w = witness(G, lay)
+    t3 = time.perf_counter()
+    sizes = lay.sizes()
+    return {
+        "components": n,
+        "semantics": semantics,
+        "states": G.count_states(),
+        "layers": len(sizes),
+        "sizes": sizes,
+        "winning": sum(sizes),
+        "rank_q0": lay.rank(G.init),
+        "witness_length": len(w),
+        "build_s": t1 - t0,
+        "fixpoint_s": t2 - t1,
+        "fixpoint_cpu_s": c2 - c1,
+        "witness_s": t3 - t2,
+        "bdd_nodes_layers": lay.stats["bdd_nodes"],
+        "peak_live_nodes": ctx.peak_nodes(),
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    }
+
+
+def check_small() -> None:
+    """Symbolic layers == explicit twin for N = 1 … 4, both semantics."""
+    from supcoord.des import explicit_ops as X
+    from supcoord.symbolic import Context
+    from supcoord.synthesis import forcible_layers, forcible_layers_naive
+    from supcoord.synthesis.forcibility import rank_naive
+
+    for n in (1, 2, 3, 4):
+        xp = X.sync(*[component(i) for i in range(n)])
+        for semantics in ("preemptive", "standard"):
+            naive = forcible_layers_naive(xp, xp.marked, semantics)
+            ctx = Context("cudd")
+            G = build(n, ctx)
+            lay = forcible_layers(G, G.marked, semantics=semantics)
+            for q in range(xp.n_states):
+                values = [{f"k{i}": int(v)} for i, v in enumerate(xp.state_label(q).split(","))]
+                if lay.rank(values) != rank_naive(naive, q):
+                    raise SystemExit(f"MISMATCH n={n} {semantics} state {xp.state_label(q)}")
+            print(f"check n={n} {semantics}: {xp.n_states} accessible states agree with the explicit twin", file=sys.stderr)
+
+
+def short(sizes: list[int]) -> str:
+    return ", ".join(map(str, sizes))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[8, 12, 16, 24])
+    ap.add_argument("--semantics", nargs="+", default=["preemptive", "standard"])
+    ap.add_argument("--run", nargs=2, metavar=("N", "SEMANTICS"), help=argparse.SUPPRESS)
+    ap.add_argument("--no-check", action="store_true")
+    ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "results", "force.md"))
+    args = ap.parse_args()
+    if args.run:
+        print(json.dumps(run_one(int(args.run[0]), args.run[1])))
+        return
+    if not args.no_check:
+        check_small()
+    rows = []
+    for n in args.sizes:
+        for semantics in args.semantics:
+            out = subprocess.run([sys.executable, __file__, "--run", str(n), semantics],
+                                 check=True, capture_output=True, text=True).stdout
+            r = json.loads(out)
+            rows.append(r)
+            print(f"N={n:3d} {semantics:10s} states={r['states']:.3e} layers={r['layers']} "
+                  f"winning={r['winning']:.3e} rank(q0)={r['rank_q0']} |w|={r['witness_length']} "
+                  f"fixpoint={r['fixpoint_s']:.2f}s (cpu {r['fixpoint_cpu_s']:.2f}s) witness={r['witness_s']:.2f}s "
+                  f"nodes={r['bdd_nodes_layers']} peak={r['peak_live_nodes']} rss={r['peak_rss_mb']:.0f}MB")
+            print(f"    layer sizes: {r['sizes']}")
+    cpu = "unknown"
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    import dd
+
+    lines = [
+        "# Forcibility benchmark (`benchmarks/bench_force.py`)",
+        "",
+        "Family: N \"staircases with gusts\" (positions 0–6, target 6, trap 7; `up`/`skip` controllable, except at 5;",
+        "uncontrollable `back` at 1, 5 (one step back), `fail` at 3 (→ trap) and a shared `gust` defined",
+        "only when every component is at 2 or 4, sending each two steps back); 8^N product states;",
+        "target all at 6, source all at 0. One component alone is not forcible from 0, the product",
+        "(N ≥ 2) is. Full fixpoint (not stopped at q0), then a witness from q0. One process per run;",
+        "times in seconds; exact state counts (Python integers).",
+        "",
+        f"Command: `python benchmarks/bench_force.py --sizes {' '.join(map(str, args.sizes))} --semantics {' '.join(args.semantics)}`",
+        f"Machine: {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, dd {dd.__version__} (CUDD), "
+        f"{time.strftime('%Y-%m-%d', time.gmtime())}, load average {os.getloadavg()[0]:.1f} at the end (the machine",
+        "was shared with other jobs: wall-clock times are noisy, CPU times less so).",
+        "The check against the explicit twin (N = 1, 2, 3, 4, both semantics, every accessible state's rank) passed.",
+        "",
+        "| N | semantics | states | layers | winning states | rank(q0) | witness | fixpoint s (CPU s) | witness s | BDD nodes (layers) | peak live nodes | peak RSS MB |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['components']} | {r['semantics']} | {r['states']:.3e} | {r['layers']} | {r['winning']:.3e} | "
+            f"{r['rank_q0']} | {r['witness_length']} | {r['fixpoint_s']:.2f} ({r['fixpoint_cpu_s']:.2f}) | {r['witness_s']:.2f} | "
+            f"{r['bdd_nodes_layers']} | {r['peak_live_nodes']} | {r['peak_rss_mb']:.0f} |"
+        )
+    lines += ["", "Layer sizes L(0), L(1), … (exact):", ""]
+    for r in rows:
+        lines.append(f"- N = {r['components']}, {r['semantics']}: {short(r['sizes'])}")
+    with open(args.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print(f"wrote {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
