@@ -181,9 +181,9 @@ def mutated_problems(draw):
         if action == "delete":
             del node[last]
         elif action == "append" and isinstance(node[last], list):
-            node[last].append(draw(small_values))
+            node[last].append(copy.deepcopy(draw(small_values)))
         elif action == "small":
-            node[last] = draw(small_values)
+            node[last] = copy.deepcopy(draw(small_values))
         else:
             node[last] = draw(json_values)
     return data
