@@ -180,3 +180,30 @@ def test_too_fine_discretisation_is_a_user_error():
     kin = AlphaBeta(7.4, 15.0, 360, 181, (0.0, 180.0))
     with pytest.raises(InputError, match="fewer steps per joint"):
         static_table(kin, (0, 0), (22.4, 0), 4.0)
+
+
+@pytest.mark.parametrize("kin", KINEMATICS[:2], ids=["rotary", "alpha-beta"])
+def test_simultaneous_table_vs_swept_and_motion(kin):
+    from supcoord.positioners.collision import simultaneous_table
+
+    base_b, bsum = np.array([13.0, 6.0]), 2.5
+    sim = simultaneous_table(kin, (0, 0), base_b, bsum)
+    assert np.array_equal(sim[0, 0], static_table(kin, (0, 0), base_b, bsum))
+    assert np.array_equal(sim[1:, 0], swept_table(kin, (0, 0), base_b, bsum, 0))
+    assert np.array_equal(sim[0, 1:], swept_table(kin, (0, 0), base_b, bsum, 1))
+    pos, moves = kin.all_positions(), [None] + kin.moves()
+    rng = np.random.default_rng(5)
+    for _ in range(300):
+        u, v = rng.integers(0, len(moves), 2)
+        i, j = rng.integers(0, len(pos), 2)
+        da, db = np.zeros(kin.n_joints), np.zeros(kin.n_joints)
+        blocked = False
+        for d, mv, q in ((da, moves[u], pos[i]), (db, moves[v], pos[j])):
+            if mv is not None:
+                d[mv[0]] = mv[1]
+                blocked |= kin.step(q, *mv) is None
+        expect = blocked or bool(motion_collides(kin, (0, 0), pos[i], da, kin, base_b, pos[j], db, bsum))
+        assert sim[u, v, i, j] == expect
+    tables = CollisionTables(kin, [[0, 0], base_b, [-13.0, -6.0]], 1.25)
+    k01 = [k for k, (a, b) in enumerate(tables.pairs) if (a, b) == (0, 1)][0]
+    assert np.array_equal(tables.simultaneous(k01), sim)

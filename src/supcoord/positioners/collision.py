@@ -47,6 +47,7 @@ __all__ = [
     "swept_table",
     "motion_collides",
     "distance_table",
+    "simultaneous_table",
     "colliding_pairs",
     "CollisionTables",
     "DEFAULT_TOL",
@@ -250,6 +251,55 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
     return out if mover == 0 else np.swapaxes(out, 1, 2)
 
 
+def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, tol: float = DEFAULT_TOL,
+                       distances: np.ndarray | None = None) -> np.ndarray:
+    """``S[u, v, i, j]``: ``a`` doing move ``u`` from ``i`` while ``b`` does move ``v`` from ``j`` collides.
+
+    Moves are indexed ``0`` = stand still, ``1 + m`` = ``kin.moves()[m]``; so ``S[0, 0]`` is
+    the static table and ``S[1 + m, 0]``/``S[0, 1 + m]`` the swept tables of either mover.
+    Both positioners move linearly in joint space over the same time ``t ∈ [0, 1]`` (the
+    validator's interpolation); a move past a hard stop is blocked (``True``).  Same
+    end-point prefilter and certified sampling as :func:`swept_table`.
+    """
+    if distances is None:
+        distances = distance_table(kin, base_a, base_b)
+    pos = kin.all_positions()
+    moves = [None] + kin.moves()
+    out = np.ones((len(moves), len(moves), len(pos), len(pos)), dtype=bool)
+    nxt_idx, valid, deltas = [], [], []
+    for mv in moves:
+        d = np.zeros(kin.n_joints)
+        if mv is None:
+            nxt_idx.append(np.arange(len(pos)))
+            valid.append(np.ones(len(pos), dtype=bool))
+        else:
+            joint, delta = mv
+            d[joint] = delta
+            ok = kin.step_valid(pos, joint, delta)
+            nxt = pos.copy()
+            nxt[:, joint] += delta
+            if kin.joints[joint].wraps:
+                nxt[:, joint] %= kin.joints[joint].steps
+            nxt_idx.append(np.where(ok, kin.flat_index(np.where(ok[:, None], nxt, pos)), 0))
+            valid.append(ok)
+        deltas.append(d)
+    for u in range(len(moves)):
+        for v in range(len(moves)):
+            vi, vj = np.nonzero(valid[u])[0], np.nonzero(valid[v])[0]
+            d0 = distances[np.ix_(vi, vj)]
+            d1 = distances[np.ix_(nxt_idx[u][vi], nxt_idx[v][vj])]
+            length = float(kin.sweep_length(deltas[u]) + kin.sweep_length(deltas[v]))
+            hit = (d0 < bsum) | (d1 < bsum)
+            free = ~hit & ((d0 + d1 - length) / 2 >= bsum)
+            ii, jj = np.nonzero(~hit & ~free)
+            res = hit
+            if len(ii):
+                res[ii, jj] = motion_collides(kin, base_a, pos[vi[ii]], deltas[u], kin, base_b, pos[vj[jj]], deltas[v],
+                                              bsum, tol)
+            out[u, v][np.ix_(vi, vj)] = res
+    return out
+
+
 def colliding_pairs(kin: Kinematics, bases: Any, buffers: Any, positions: Any,
                     pairs: Any | None = None) -> list[tuple[int, int, float]]:
     """Pairs ``(a, b, distance)`` that collide statically at ``positions`` (``(N, J)`` ints)."""
@@ -313,6 +363,18 @@ class CollisionTables:
                 return np.swapaxes(self._swept[mirror], 1, 2)
             self._swept[key] = swept_table(self.kin, (0.0, 0.0), (ox, oy), bsum, mover, self.tol,
                                            distances=self._distances((ox, oy)))
+        return self._swept[key]
+
+    def simultaneous(self, k: int) -> np.ndarray:
+        """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""
+        key = self._key(k) + ("sim",)
+        if key not in self._swept:
+            (ox, oy), bsum = key[:2]
+            mirror = ((-ox + 0.0, -oy + 0.0), bsum, "sim")
+            if mirror in self._swept:  # S_{-o}[v, u, j, i] = S_o[u, v, i, j]
+                return np.transpose(self._swept[mirror], (1, 0, 3, 2))
+            self._swept[key] = simultaneous_table(self.kin, (0.0, 0.0), (ox, oy), bsum, self.tol,
+                                                  distances=self._distances((ox, oy)))
         return self._swept[key]
 
     def neighbours_of(self, p: int) -> list[tuple[int, int, int]]:
