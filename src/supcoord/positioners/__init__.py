@@ -11,6 +11,7 @@ from .collision import (
     motion_collides,
     neighbour_pairs,
     segment_distance,
+    simultaneous_table,
     static_table,
     swept_table,
 )
@@ -35,6 +36,7 @@ __all__ = [
     "motion_collides",
     "neighbour_pairs",
     "segment_distance",
+    "simultaneous_table",
     "static_table",
     "swept_table",
     "Problem",
