@@ -50,9 +50,9 @@ def test_force_reads_libfaudes_files(tmp_path, capsys, names):
     code, out, _ = run_cli(capsys, path, "--json")
     assert code == 0
     assert json.loads(out) == {"status": "ok", "forcible": True, "witness": ["a", "u", "a"], "rank": 3, "layers": [1, 1, 1, 1]}
-    target = "s2" if names else "3"  # the libFAUDES index of the third state
-    code, out, _ = run_cli(capsys, path, "--json", "--target", target)
-    assert code == 0 and json.loads(out)["witness"] == ["a", "u"]
+    for target in (["s2", "3"] if names else ["3"]):  # by name, or the libFAUDES index
+        code, out, _ = run_cli(capsys, path, "--json", "--target", target)
+        assert code == 0 and json.loads(out)["witness"] == ["a", "u"]
     code, out, _ = run_cli(capsys, path, "--json", "--semantics", "standard")
     assert json.loads(out) == {"status": "ok", "forcible": False, "witness": [], "rank": None, "layers": [1, 1]}
     code, out, _ = run_cli(capsys, path)

@@ -7,8 +7,9 @@ forcible is an answer (exit 0); a missing or malformed file or an unknown state 
 user error (exit 2); ``--max-nodes``/``--timeout`` running out gives exit 3.
 
 ``STATE`` is a state name of the file, else a state number: for ``.gen`` files the
-libFAUDES index (states numbered 1, 2, … in file order, as libFAUDES writes them and
-unnamed states are named), for ``.json`` files the JSON state number (from 0).
+libFAUDES index (states numbered 1, 2, … in the order of the file's ``<States>``, as
+libFAUDES writes them), for ``.json`` files the JSON state number (from 0).  Names are
+matched first.
 """
 
 from __future__ import annotations
@@ -59,9 +60,7 @@ def resolve_state(g, text: str, path: str) -> int:
         number = None
     if number is not None:
         q = number - 1 if Path(path).suffix.lower() == ".gen" else number
-        if g.state_names is not None:  # a named file: unnamed states are named by their index
-            q = None
-        if q is not None and 0 <= q < g.n_states:
+        if 0 <= q < g.n_states:
             return q
     raise InputError(f"unknown state {text!r} in {path}", value=text, where="--target")
 
