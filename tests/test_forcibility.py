@@ -12,7 +12,7 @@ from supcoord.des.generator import Event, Generator
 from supcoord.des.symbolic import from_explicit
 from supcoord.errors import BudgetExceeded, InputError
 from supcoord.symbolic import Budget, Context
-from supcoord.synthesis import bfa, ccc, forcible_layers, forcible_layers_naive
+from supcoord.synthesis import bfa, ccc, forcible_layers, forcible_layers_naive, forcing_paths, witness
 from supcoord.synthesis.forcibility import as_single_state, as_states, rank_naive
 
 SEMANTICS = ["preemptive", "standard"]
@@ -181,6 +181,10 @@ def test_bfa_is_the_reachable_part_of_the_layers(gt, semantics, data):
     expected = [layer & seen for layer in full[: k0 + 1]]
     assert state_sets(G, dag.layers, g.n_states) == expected
     assert dag.rank(source) == k0
+    # the DAG carries every forcible path from the source, and the same witness
+    whole = forcible_layers(G, T, semantics=semantics)
+    assert list(forcing_paths(G, dag, source, limit=50)) == list(forcing_paths(G, whole, source, limit=50))
+    assert witness(G, dag, source) == witness(G, whole, source)
 
 
 def test_stop_at_within_and_rank_forms():
