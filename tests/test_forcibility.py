@@ -245,3 +245,12 @@ def test_ccc_early_stop_and_bfa_by_component_states():
     dag = bfa(P, [{"k0": 1}, {"k1": 0}], {"k0": 2, "k1": 2})
     assert [P.count_states(x) for x in dag.layers] == [1, 2, 2, 1]
     assert dag.rank({"k0": 1, "k1": 0}) == 3 and dag.rank({"k0": 0, "k1": 0}) is None
+
+
+@pytest.mark.parametrize("backend", ["cudd", "autoref"])
+def test_both_backends_agree_with_the_twin(backend):
+    g = paper_positioner({1, 3}, coupled=True)
+    G = from_explicit(Context(backend), g)
+    for semantics in SEMANTICS:
+        lay = forcible_layers(G, G.marked, semantics=semantics)
+        assert state_sets(G, lay.layers, g.n_states) == forcible_layers_naive(g, g.marked, semantics)
