@@ -51,6 +51,16 @@ def test_symbolic_layers_equal_naive(gt, semantics):
         assert lay.rank(q) == rank_naive(naive, q)
 
 
+@given(generator_and_target(), st.sampled_from(SEMANTICS), st.data())
+def test_within_equals_naive(gt, semantics, data):
+    g, target = gt
+    inside = data.draw(st.sets(st.integers(0, g.n_states - 1)))
+    G = from_explicit(Context(), g)
+    lay = forcible_layers(G, target_bdd(G, target), semantics=semantics, within=target_bdd(G, inside))
+    naive = forcible_layers_naive(g, target, semantics, within=inside)
+    assert state_sets(G, lay.layers, g.n_states) == naive
+
+
 @st.composite
 def products(draw):
     alphabet = draw(alphabets())

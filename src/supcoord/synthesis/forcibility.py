@@ -342,20 +342,24 @@ def forced_naive(g: Generator, q: int, W: set[int], semantics: str) -> bool:
     return any(d in W for d in C) and all(d in W for d in U)
 
 
-def forcible_layers_naive(g: Generator, target: Iterable[int], semantics: str = "preemptive") -> list[set[int]]:
+def forcible_layers_naive(
+    g: Generator, target: Iterable[int], semantics: str = "preemptive", within: Iterable[int] | None = None
+) -> list[set[int]]:
     """Explicit layers ``[L(0), L(1), …]``: backward breadth-first over predecessors.
 
     A state entering ``W(k+1)`` has a successor in ``L(k)`` (otherwise it would already
     satisfy ``Force(W(k-1))``), so only predecessors of the last layer are candidates.
+    ``within`` (default: all states) bounds the states that may be won.
     """
     _check_semantics(semantics)
+    allowed = set(range(g.n_states)) if within is None else set(within)
     preds: dict[int, set[int]] = {}
     for s, _, d in g.transitions():
         preds.setdefault(d, set()).add(s)
-    W = {q for q in target if 0 <= q < g.n_states}
+    W = {q for q in target if q in allowed}
     layers = [set(W)]
     while True:
-        candidates = {p for q in layers[-1] for p in preds.get(q, ()) if p not in W}
+        candidates = {p for q in layers[-1] for p in preds.get(q, ()) if p not in W and p in allowed}
         new = {q for q in candidates if forced_naive(g, q, W, semantics)}
         if not new:
             return layers
