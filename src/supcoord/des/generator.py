@@ -20,7 +20,7 @@ from typing import Iterable, Iterator, Mapping, Sequence
 
 from ..errors import AlphabetError, InputError, NondeterminismError
 
-__all__ = ["Event", "Generator", "tct_event", "merge_alphabets"]
+__all__ = ["Event", "Generator", "tct_event", "merge_alphabets", "event_key"]
 
 
 @dataclass(frozen=True, order=True)
@@ -40,6 +40,15 @@ def tct_event(label: int | str) -> Event:
     if number < 0:
         raise InputError(f"TCT event labels are non-negative, got {number}", value=label)
     return Event(str(number), number % 2 == 1)
+
+
+def event_key(name: str) -> tuple[int, int, str]:
+    """Deterministic order of event names: TCT numbers numerically, then other names.
+
+    >>> sorted(["9", "10", "b", "a"], key=event_key)
+    ['9', '10', 'a', 'b']
+    """
+    return (0, int(name), "") if name.isdigit() else (1, 0, name)
 
 
 def merge_alphabets(alphabets: Iterable[Iterable[Event]]) -> dict[str, Event]:

@@ -331,7 +331,8 @@ class Context:
 
     def live_nodes(self) -> int:
         """Nodes currently in the manager (CUDD's unique table)."""
-        return int(self.statistics().get("n_nodes", len(self.bdd)))
+        stats = self.statistics()
+        return int(stats["n_nodes"]) if "n_nodes" in stats else len(self.bdd)
 
     def peak_nodes(self) -> int:
         """Largest number of live nodes observed by :meth:`check_budget` (or CUDD's peak)."""

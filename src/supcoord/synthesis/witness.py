@@ -32,7 +32,7 @@ from __future__ import annotations
 
 from typing import Any, Iterator, Sequence
 
-from ..des.generator import Generator
+from ..des.generator import Generator, event_key
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError, ModelError
 from ..symbolic.context import BDD
@@ -70,7 +70,7 @@ def _steps(G: SymbolicGenerator, lay: Layers, q: BDD, k: int) -> list[tuple[str,
     env_moves = lay.semantics == "standard" or _env_acts(lay, q)
     ctrl_moves = not _env_acts(lay, q)
     out = []
-    for e in sorted(G.events):
+    for e in sorted(G.events, key=event_key):
         controllable = G.events[e].event.controllable
         if not (ctrl_moves if controllable else env_moves):
             continue
@@ -108,11 +108,11 @@ def witness(G: SymbolicGenerator, layers: Layers, source: Any = None, *, env_cho
             elif env_choice == "largest":
                 e, q, k = steps[-1]
             else:
-                e, q, k = min(steps, key=lambda s: (-s[2], s[0]))
+                e, q, k = min(steps, key=lambda s: (-s[2], event_key(s[0])))
         else:
             if not steps:
                 raise ModelError(f"no controllable step out of layer {k}: layers from another generator?", value=k)
-            e, q, k = min(steps, key=lambda s: (s[2], s[0]))  # lowest rank, then name
+            e, q, k = min(steps, key=lambda s: (s[2], event_key(s[0])))  # lowest rank, then name
         path.append(e)
     return path
 
@@ -177,7 +177,7 @@ def strategy(G: SymbolicGenerator, layers: Layers) -> list[dict[str, BDD]]:
         below |= layers.layers[k - 1]  # W(k-1)
         here = layers.layers[k] & ctrl_states
         moves = {}
-        for c in sorted(G.controllable):
+        for c in sorted(G.controllable, key=event_key):
             s = here & G.pre(below, c)  # q ∈ L(k), δ(q,c) ∈ W(k-1)
             if s != G.ctx.false:
                 moves[c] = s
@@ -193,7 +193,7 @@ def _steps_naive(g: Generator, layers: Sequence[set[int]], semantics: str, q: in
     has_u = any(not g.events[e].controllable for e in out)
     env_acts = semantics == "preemptive" and has_u
     steps = []
-    for e in sorted(out):
+    for e in sorted(out, key=event_key):
         controllable = g.events[e].controllable
         if controllable and env_acts:
             continue
@@ -216,9 +216,9 @@ def witness_naive(
     while k > 0:
         env_acts, steps = _steps_naive(g, layers, semantics, q, k)
         if env_acts:
-            pick = {"smallest": steps[0], "largest": steps[-1]}.get(env_choice) or min(steps, key=lambda s: (-s[2], s[0]))
+            pick = {"smallest": steps[0], "largest": steps[-1]}.get(env_choice) or min(steps, key=lambda s: (-s[2], event_key(s[0])))
         else:
-            pick = min(steps, key=lambda s: (s[2], s[0]))
+            pick = min(steps, key=lambda s: (s[2], event_key(s[0])))
         e, q, k = pick
         path.append(e)
     return path
@@ -239,4 +239,4 @@ def forcing_paths_naive(g: Generator, layers: Sequence[set[int]], source: int, s
             walk(d, j, prefix + [e])
 
     walk(source, k0, [])
-    return sorted(out, key=lambda p: (len(p), p))
+    return sorted(out, key=lambda p: (len(p), [event_key(e) for e in p]))
