@@ -219,7 +219,7 @@ def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage:
         [j for j in range(n) if j != k and (support[j] & writes[k] or writes[j] & support[k])] for k in range(n)
     ]
     seen = [ctx.false] * len(steps)
-    x, k, checked = init, 0, time.perf_counter()
+    x, k, checked = init, 0, float("-inf")  # check at once, then throttle
     dirty = set(range(n))
     while dirty:
         c = min(dirty)  # the deepest dirty cluster first

@@ -1,0 +1,195 @@
+"""``supcoord supcon``: formats.md JSON, exit statuses, export, agreement with libFAUDES
+(files written by libFAUDES itself and by supcoord), once through a subprocess."""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import faudes
+import pytest
+from hypothesis import given, settings
+from oracle import faudes_supcon, from_faudes, to_faudes
+from strategies import systems
+
+from supcoord.cli.main import main
+from supcoord.des import explicit_ops as X
+from supcoord.des.generator import Generator
+from supcoord.des.io import write_generator
+
+KEYS = {"status", "states", "transitions", "marked", "bdd_nodes", "seconds"}
+
+
+def run_cli(capsys, *argv):
+    code = main(["supcon", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def small_factory_files(directory: Path, writer="faudes"):
+    M1 = Generator.from_tct(3, [(0, 11, 1), (1, 10, 0), (1, 12, 2), (2, 13, 0)], 0, [0], "MACH1")
+    M2 = Generator.from_tct(3, [(0, 21, 1), (1, 20, 0), (1, 22, 2), (2, 23, 0)], 0, [0], "MACH2")
+    BUF = Generator.from_tct(2, [(0, 10, 1), (1, 21, 0)], 0, [0], "BUF")
+    BR = Generator.from_tct(2, [(0, 22, 1), (1, 23, 0), (0, 13, 0)], 0, [0], "BR")
+    paths = {}
+    for g in (M1, M2, BUF, BR):
+        path = directory / f"{g.name}.gen"
+        if writer == "faudes":
+            to_faudes(g).Write(str(path))
+        else:
+            write_generator(g, path)
+        paths[g.name] = path
+    return paths, (M1, M2), (BUF, BR)
+
+
+@pytest.mark.parametrize("writer", ["faudes", "supcoord"])
+def test_small_factory_json_and_export(tmp_path, capsys, writer):
+    paths, plants, specs = small_factory_files(tmp_path, writer)
+    out_file = tmp_path / "V.gen"
+    code, out, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                             "--export", out_file, "--json")
+    assert code == 0, err
+    payload = json.loads(out)
+    assert set(payload) == KEYS
+    assert payload["status"] == "ok"
+    assert (payload["states"], payload["transitions"], payload["marked"]) == (12, 24, 1)
+    assert payload["bdd_nodes"] > 0 and payload["seconds"] >= 0
+    exported = from_faudes(faudes.System(str(out_file)))  # libFAUDES reads what we wrote
+    oracle = faudes_supcon(X.sync(*plants), X.sync(*specs))
+    assert Generator(exported.n_states, oracle.alphabet, exported.transitions(), exported.init, exported.marked).same_as(oracle)
+
+
+@pytest.mark.parametrize("option", [["--order", "rcm"], ["--order", "force"], ["--order", "given"],
+                                    ["--method", "bfs"], ["--method", "chaining"], ["--reorder"]])
+def test_options_do_not_change_the_answer(tmp_path, capsys, option):
+    paths, _, _ = small_factory_files(tmp_path, "supcoord")
+    code, out, _ = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                           "--json", *option)
+    assert code == 0
+    payload = json.loads(out)
+    assert (payload["states"], payload["transitions"]) == (12, 24)
+
+
+def test_text_report(tmp_path, capsys):
+    paths, _, _ = small_factory_files(tmp_path)
+    code, out, _ = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"])
+    assert code == 0 and "12 states, 24 transitions" in out
+
+
+def test_no_spec_means_nonblocking_only(tmp_path, capsys):
+    paths, plants, _ = small_factory_files(tmp_path)
+    code, out, _ = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--json")
+    assert code == 0
+    assert json.loads(out)["states"] == X.sync(*plants).n_states == 9
+
+
+def test_empty_supervisor_is_ok(tmp_path, capsys):
+    # the plant can break down uncontrollably into a state the spec forbids from the start
+    plant = Generator.from_tct(2, [(0, 10, 1)], 0, [0, 1], "P")
+    spec = Generator.from_tct(1, [], 0, [0], "S", extra_events=[10])
+    write_generator(plant, tmp_path / "P.gen")
+    write_generator(spec, tmp_path / "S.gen")
+    code, out, _ = run_cli(capsys, "--plant", tmp_path / "P.gen", "--spec", tmp_path / "S.gen", "--json")
+    assert code == 0
+    assert json.loads(out) | {"bdd_nodes": 0, "seconds": 0} == {
+        "status": "ok", "states": 0, "transitions": 0, "marked": 0, "bdd_nodes": 0, "seconds": 0}
+
+
+# -- errors: exit 2 with one line, exit 3 on budgets ----------------------------------
+
+
+def one_line_error(err):
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("supcoord: error:") and "Traceback" not in err
+    return lines[0]
+
+
+def test_missing_file(tmp_path, capsys):
+    code, out, err = run_cli(capsys, "--plant", tmp_path / "nope.gen", "--json")
+    assert code == 2 and out == ""
+    assert "nope.gen" in one_line_error(err)
+
+
+def test_malformed_file(tmp_path, capsys):
+    bad = tmp_path / "bad.gen"
+    bad.write_text("<Generator> this is not a generator")
+    code, _, err = run_cli(capsys, "--plant", bad)
+    assert code == 2 and "bad.gen" in one_line_error(err)
+
+
+def test_spec_event_unknown_to_plant(tmp_path, capsys):
+    paths, _, _ = small_factory_files(tmp_path)
+    code, _, err = run_cli(capsys, "--plant", paths["MACH1"], "--spec", paths["BUF"])
+    line = one_line_error(err)
+    assert code == 2 and "'21'" in line and "BUF.gen" in line
+
+
+def test_nondeterministic_file(tmp_path, capsys):
+    f = faudes.System()
+    a = f.InsControllableEvent("a")
+    q0, q1 = f.InsState("x"), f.InsState("y")
+    f.SetInitState(q0)
+    f.SetTransition(q0, a, q0)
+    f.SetTransition(q0, a, q1)
+    f.Write(str(tmp_path / "N.gen"))
+    code, _, err = run_cli(capsys, "--plant", tmp_path / "N.gen")
+    assert code == 2 and "nondeterministic" in one_line_error(err)
+
+
+def test_empty_plant_alphabet(tmp_path, capsys):
+    write_generator(Generator(1, [], [], 0, [0], "EMPTY"), tmp_path / "E.gen")
+    code, _, err = run_cli(capsys, "--plant", tmp_path / "E.gen")
+    assert code == 2 and "empty alphabet" in one_line_error(err)
+
+
+@pytest.mark.parametrize("budget", [["--max-nodes", "1"], ["--timeout", "1e-9"]])
+def test_budget_gives_unknown(tmp_path, capsys, budget):
+    paths, _, _ = small_factory_files(tmp_path)
+    code, out, _ = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                           "--json", *budget)
+    assert code == 3
+    assert json.loads(out)["status"] == "unknown"
+
+
+def test_bad_budget_value(tmp_path, capsys):
+    paths, _, _ = small_factory_files(tmp_path)
+    code, _, err = run_cli(capsys, "--plant", paths["MACH1"], "--max-nodes", "0")
+    assert code == 2 and "--max-nodes" in one_line_error(err)
+
+
+# -- random systems through files, against libFAUDES ------------------------------------
+
+
+@settings(max_examples=25)
+@given(systems())
+def test_random_systems_agree_with_libfaudes(system):
+    _, plants, specs = system
+    oracle = faudes_supcon(X.sync(*plants), X.sync(*specs))
+    with tempfile.TemporaryDirectory() as d:
+        files = []
+        for g in plants + specs:
+            path = Path(d) / f"{g.name}.gen"
+            to_faudes(g).Write(str(path))
+            files.append(path)
+        out_file = Path(d) / "V.json"
+        code = main(["supcon", "--plant", *map(str, files[: len(plants)]), "--spec", *map(str, files[len(plants):]),
+                     "--export", str(out_file), "--json", "--quiet"])
+        assert code == 0
+        payload = json.loads(out_file.read_text())
+    assert (payload["states"], len(payload["transitions"]), len(payload["marked"])) == (
+        oracle.n_states, oracle.n_transitions, len(oracle.marked))
+
+
+def test_subprocess(tmp_path):
+    paths, _, _ = small_factory_files(tmp_path)
+    env = dict(os.environ)
+    proc = subprocess.run(
+        [sys.executable, "-m", "supcoord.cli", "supcon", "--plant", str(paths["MACH1"]), str(paths["MACH2"]),
+         "--spec", str(paths["BUF"]), str(paths["BR"]), "--json"],
+        capture_output=True, text=True, env=env, timeout=120,
+    )
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    assert set(payload) == KEYS and payload["states"] == 12
