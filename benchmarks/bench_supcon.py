@@ -33,11 +33,11 @@ import time
 from datetime import datetime, timezone
 
 FULL_SIZES = {
-    "dining_philosophers": [4, 6, 8, 10, 12, 14, 16, 18, 20, 24, 28, 32],
+    "dining_philosophers": [4, 6, 8, 9, 10, 11, 12, 14, 16, 18, 20, 24, 28, 32],
     "small_factories": [2, 3, 4, 5, 6, 7, 8, 10, 12],
     "coupled_factories": [2, 3, 4, 5, 6, 7, 8, 10],
     "transfer_line_chain": [1, 2, 3, 4, 5, 6, 8, 10],
-    "machine_line": [4, 8, 12, 14, 16, 20, 24, 32],
+    "machine_line": [4, 8, 9, 10, 11, 12, 14, 16, 20, 24, 32],
 }
 QUICK_SIZES = {
     "dining_philosophers": [4, 8, 12],
@@ -185,8 +185,8 @@ def fmt(x, digits: int = 2) -> str:
 
 
 HEADER = ("| family | size | supervisor states | transitions | BDD nodes | supcoord s | supcoord peak RSS MB "
-          "| libFAUDES s | libFAUDES peak RSS MB | speed-up |")
-RULE = "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+          "| libFAUDES s | of which SupCon s | libFAUDES peak RSS MB | speed-up |")
+RULE = "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 
 
 def row(family, size, ours, theirs) -> str:
@@ -197,12 +197,12 @@ def row(family, size, ours, theirs) -> str:
     else:
         s = [ours["status"], "", "", "", ""]
     if theirs is None:
-        f, speed = ["not run", ""], ""
+        f, speed = ["not run", "", ""], ""
     elif theirs["status"] == "ok":
-        f = [fmt(theirs["seconds"], 3), fmt(theirs["peak_rss_mb"], 0)]
+        f = [fmt(theirs["seconds"], 3), fmt(theirs["supcon_seconds"], 3), fmt(theirs["peak_rss_mb"], 0)]
         speed = f"{theirs['seconds'] / ours['seconds']:.3g}×" if ours["status"] == "ok" and ours["seconds"] > 0 else ""
     else:
-        f, speed = [theirs["status"] + (" (>%ds)" % theirs.get("limit", 0) if theirs["status"] == "timeout" else ""), ""], ""
+        f, speed = [theirs["status"] + (" (>%ds)" % theirs.get("limit", 0) if theirs["status"] == "timeout" else ""), "", ""], ""
     return "| " + " | ".join([family, str(label), *s, *f, speed]) + " |"
 
 

@@ -432,7 +432,7 @@ class _Builder:
                 raise r.error(t.line, f"unexpected {t.show()} in <StateSet>", t.text)
         r.end("StateSet")
 
-    def state_set(self) -> set[int] | list[int]:
+    def state_set(self) -> list[int]:
         r = self.r
         t0 = r.begin("InitStates", "I", "MarkedStates", "M")
         label = t0.text
