@@ -58,28 +58,30 @@ def _buffer(name: str, capacity: int, put: list[int], take: list[int]) -> Genera
 
 def dining_philosophers(n: int) -> tuple[list[Generator], list[Generator]]:
     """``n`` philosophers ``p1…pn`` and forks ``f1…fn`` (fork ``fi`` is ``pi``'s left and
-    ``p(i-1)``'s right), as in the CIF benchmark; no specification.
+    ``p(i-1)``'s right), as in the CIF benchmark; no specification.  Components come
+    interleaved ``F1, P1, F2, P2, …`` (a good BDD variable order).
 
     >>> plants, specs = dining_philosophers(3)
     >>> len(plants), specs
     (6, [])
     """
     _check("n", n, 2)
-    plants = []
+    phils, forks = [], []
     for i in range(1, n + 1):
         p = f"p{i}"
         ev = [Event(f"{p}.take_left", True), Event(f"{p}.take_right", True), Event(f"{p}.release_both", True)]
         trans = [(0, f"{p}.take_left", 1), (0, f"{p}.take_right", 2), (1, f"{p}.take_right", 3),
                  (2, f"{p}.take_left", 3), (3, f"{p}.release_both", 0)]
-        plants.append(Generator(4, ev, trans, 0, [0], p.upper(), ["neither", "left", "right", "both"]))
+        phils.append(Generator(4, ev, trans, 0, [0], p.upper(), ["neither", "left", "right", "both"]))
     for i in range(1, n + 1):
         left, right = f"p{i}", f"p{(i - 2) % n + 1}"  # fork i: left of p_i, right of p_(i-1)
         ev = [Event(f"{left}.take_left", True), Event(f"{right}.take_right", True),
               Event(f"{left}.release_both", True), Event(f"{right}.release_both", True)]
         trans = [(0, f"{left}.take_left", 1), (0, f"{right}.take_right", 1),
                  (1, f"{left}.release_both", 0), (1, f"{right}.release_both", 0)]
-        plants.append(Generator(2, ev, trans, 0, [0], f"F{i}", ["available", "taken"]))
-    return plants, []
+        forks.append(Generator(2, ev, trans, 0, [0], f"F{i}", ["available", "taken"]))
+    # interleaved F1, P1, F2, P2, ...: each philosopher next to the forks it shares (BDD order)
+    return [g for pair in zip(forks, phils) for g in pair], []
 
 
 def _small_factory(i: int) -> tuple[list[Generator], list[Generator]]:
