@@ -103,3 +103,17 @@ def test_components_match_textbook_shape():
     cat, mouse = cm.plants
     assert cat.uncontrollable == {"c7"} and not mouse.uncontrollable
     assert cat.state_label(cat.init) == "room2" and mouse.state_label(mouse.init) == "room4"
+
+
+@pytest.mark.parametrize("name", ["small_factory", "transfer_line", "agv", "cat_mouse"])
+def test_data_files_are_read_identically_by_libfaudes(name):
+    from importlib import resources
+
+    m = classic.load(name)
+    folder = resources.files("supcoord") / "data" / "classic" / name
+    for g in m.plants + m.specs:
+        with resources.as_file(folder / f"{g.name}.gen") as path:
+            s = faudes.System(str(path))
+        assert (s.Size(), s.TransRelSize(), s.MarkedStatesSize()) == (g.n_states, g.n_transitions, len(g.marked))
+        assert {s.EventName(e) for e in s.ControllableEvents()} == set(g.controllable)
+        assert {s.EventName(e) for e in s.Alphabet()} == set(g.events)
