@@ -1,13 +1,74 @@
-"""supcoord: supervisory coordination of robotic fiber positioners with BDDs.
+"""supcoord: supervisory coordination of robotic fiber positioners, computed with BDDs.
+
+Each positioner and its target are discrete-event systems; the coordination
+supervisor is ``V = supcon(G, allevents(G) || S)`` and the Complete Coordination
+Checker ``ccc(V)`` decides, by backtracking forcibility, whether ``V`` can force its
+marked state from its initial state, returning the forcing event string.  States,
+counters and transition relations are BDDs, so this scales to thousands of positioners.
+
+The seed paper's example (positioners P1–P3 starting at ``[0], [6], [6]``, collisions
+driven by the arms' geometry — the *coupled* reading, ``docs/paper.md``):
+
+>>> import supcoord as sc
+>>> inst = sc.paper_example()                 # 3 positioners, 8 positions each
+>>> G, E = sc.coupled_models(sc.CoupledModel(inst))   # G and allevents(G) || S
+>>> result = sc.supcon(G, E)
+>>> V = result.supervisor
+>>> result.stats["states"], result.stats["marked"]
+(4128, 1)
+>>> verdict = sc.ccc(V)                       # preemptive semantics (the paper's Remark)
+>>> verdict.forcible, verdict.rank
+(True, 6)
+>>> verdict.witness                           # Table-1 labels
+['10', '20', '15', '50', '83', '93']
+>>> sc.describe(verdict.witness[2])
+'P1 escapes clockwise by priority (h)'
+>>> sc.ccc(V, "standard").forcible            # without preemption: not forcible
+False
+
+The public names (everything in ``__all__``) are imported lazily on first use, so
+``import supcoord`` itself loads neither the BDD package nor matplotlib.
+
+=================  ==========================================================
+group              names
+=================  ==========================================================
+BDD layer          :class:`Context`, :class:`Budget`
+generators         :class:`Event`, :class:`Generator`, :func:`tct_event`,
+                   :class:`SymbolicGenerator`, :func:`from_explicit`,
+                   :func:`to_explicit`, :func:`sync`, :func:`allevents`,
+                   :func:`read_generator`, :func:`write_generator`, :func:`to_dot`
+synthesis          :func:`supcon`, :func:`lift_spec`, :func:`reachable`,
+                   :func:`coreachable`, :func:`is_controllable`,
+                   :func:`is_nonblocking`, :class:`SupconResult`
+forcibility        :func:`forcible_layers`, :class:`Layers`, :func:`bfa`,
+                   :func:`witness`, :func:`forcing_paths`, :func:`strategy`,
+                   :func:`ccc`, :class:`CCCResult`
+the paper's model  :func:`paper_example`, :func:`random_instance`,
+                   :class:`PaperInstance`, :func:`literal_models`,
+                   :class:`CoupledModel`, :class:`Geometry`,
+                   :func:`coupled_models`, :func:`event_label`,
+                   :func:`decode_label`, :func:`describe`, :func:`run_demo`,
+                   :func:`solve_paper`
+geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`,
+                   :func:`random_problem`, :func:`preset_problem`,
+                   :data:`PRESETS`, :class:`Plan`, :func:`load_plan`,
+                   :func:`plan_from_moves`, :func:`validate_plan`
+figures            :func:`plot_problem`, :func:`save_plan_strip`,
+                   :func:`save_plan_gif` (these import matplotlib)
+errors             :class:`SupcoordError` and its subclasses
+=================  ==========================================================
 
 Layers (imports go downward only): :mod:`supcoord.symbolic` (the BDD context),
 :mod:`supcoord.des` (generators and formats), :mod:`supcoord.synthesis` (fixpoints),
 :mod:`supcoord.positioners` (the domain), :mod:`supcoord.cli` (command line).
 """
 
-__version__ = "0.1.0"
+from __future__ import annotations
 
-from .errors import (  # noqa: E402
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from .errors import (
     AlphabetError,
     BudgetExceeded,
     FormatError,
@@ -17,13 +78,180 @@ from .errors import (  # noqa: E402
     SupcoordError,
 )
 
-__all__ = [
-    "__version__",
-    "AlphabetError",
-    "BudgetExceeded",
-    "FormatError",
-    "InputError",
-    "ModelError",
-    "NondeterminismError",
-    "SupcoordError",
-]
+__version__ = "0.1.0"
+
+#: public name -> module it lives in (imported on first attribute access)
+_LAZY: dict[str, str] = {
+    # the BDD layer
+    "Context": "supcoord.symbolic.context",
+    "Budget": "supcoord.symbolic.context",
+    # generators and file formats
+    "Event": "supcoord.des.generator",
+    "Generator": "supcoord.des.generator",
+    "tct_event": "supcoord.des.generator",
+    "SymbolicGenerator": "supcoord.des.symbolic",
+    "from_explicit": "supcoord.des.symbolic",
+    "to_explicit": "supcoord.des.symbolic",
+    "read_generator": "supcoord.des.io",
+    "write_generator": "supcoord.des.io",
+    "to_dot": "supcoord.des.io_dot",
+    # synthesis
+    "supcon": "supcoord.synthesis.supcon",
+    "SupconResult": "supcoord.synthesis.supcon",
+    "lift_spec": "supcoord.synthesis.supcon",
+    "reachable": "supcoord.synthesis.reachability",
+    "coreachable": "supcoord.synthesis.reachability",
+    "is_controllable": "supcoord.synthesis.checks",
+    "is_nonblocking": "supcoord.synthesis.checks",
+    # forcibility and the Complete Coordination Checker
+    "forcible_layers": "supcoord.synthesis.forcibility",
+    "Layers": "supcoord.synthesis.forcibility",
+    "bfa": "supcoord.synthesis.forcibility",
+    "witness": "supcoord.synthesis.witness",
+    "forcing_paths": "supcoord.synthesis.witness",
+    "strategy": "supcoord.synthesis.witness",
+    "ccc": "supcoord.synthesis.ccc",
+    "CCCResult": "supcoord.synthesis.ccc",
+    # the seed paper's model
+    "PaperInstance": "supcoord.positioners.paper",
+    "paper_example": "supcoord.positioners.paper",
+    "random_instance": "supcoord.positioners.paper",
+    "literal_models": "supcoord.positioners.paper",
+    "event_label": "supcoord.positioners.paper",
+    "decode_label": "supcoord.positioners.paper",
+    "CoupledModel": "supcoord.positioners.coupled",
+    "Geometry": "supcoord.positioners.coupled",
+    "coupled_models": "supcoord.positioners.coupled",
+    "describe": "supcoord.positioners.demo",
+    "run_demo": "supcoord.positioners.demo",
+    "solve_paper": "supcoord.cli.cmd_paper",
+    # geometric coordination problems
+    "Problem": "supcoord.positioners.problem",
+    "load_problem": "supcoord.positioners.problem",
+    "parse_problem": "supcoord.positioners.problem",
+    "random_problem": "supcoord.positioners.random_problems",
+    "preset_problem": "supcoord.positioners.presets",
+    "PRESETS": "supcoord.positioners.presets",
+    "Plan": "supcoord.positioners.plan",
+    "load_plan": "supcoord.positioners.plan",
+    "plan_from_moves": "supcoord.positioners.plan",
+    "validate_plan": "supcoord.positioners.validate",
+    # figures (matplotlib, Agg backend)
+    "plot_problem": "supcoord.positioners.figures",
+    "save_plan_strip": "supcoord.positioners.figures",
+    "save_plan_gif": "supcoord.positioners.figures",
+}
+
+__all__ = sorted(
+    [
+        "__version__",
+        "sync",
+        "allevents",
+        "SupcoordError",
+        "InputError",
+        "FormatError",
+        "ModelError",
+        "NondeterminismError",
+        "AlphabetError",
+        "BudgetExceeded",
+        *_LAZY,
+    ]
+)
+
+
+def sync(*generators: Any, name: str | None = None) -> Any:
+    """The synchronous product ``G1 || G2 || …`` of explicit or of symbolic generators.
+
+    An event moves every component that has it in its alphabet, and only if all of
+    them can.  All arguments must be :class:`Generator` (explicit, the result is one)
+    or all :class:`SymbolicGenerator` over one :class:`Context`.
+
+    >>> from supcoord import Event, Generator, sync
+    >>> a, b, c = Event("a", True), Event("b", True), Event("c", False)
+    >>> G1 = Generator(2, [a, c], [(0, "a", 1), (1, "c", 0)], 0, [0])
+    >>> G2 = Generator(2, [b, c], [(0, "b", 1), (1, "c", 0)], 0, [0])
+    >>> G = sync(G1, G2)
+    >>> G.n_states, sorted(G.enabled(G.run(["a", "b"])))
+    (4, ['c'])
+    """
+    from .des import explicit_ops, symbolic_ops
+    from .des.generator import Generator
+    from .des.symbolic import SymbolicGenerator
+
+    if not generators:
+        raise InputError("sync needs at least one generator", value=0)
+    if all(isinstance(g, Generator) for g in generators):
+        return generators[0] if len(generators) == 1 and name is None else explicit_ops.sync(*generators, name=name)
+    if all(isinstance(g, SymbolicGenerator) for g in generators):
+        return symbolic_ops.sync(*generators, name=name)
+    kinds = sorted({type(g).__name__ for g in generators})
+    raise InputError(f"sync takes all explicit or all symbolic generators, got {', '.join(kinds)}", value=kinds)
+
+
+def allevents(G: Any, name: str = "ALL") -> Any:
+    """TCT's ``allevents(G)``: one marked state with a self-loop of every event of ``G``.
+
+    Explicit for a :class:`Generator`, symbolic (in ``G``'s context) for a
+    :class:`SymbolicGenerator`.  The paper writes the specification as
+    ``allevents(G) || S`` so that ``supcon`` (TCT's meaning) sees ``S`` over ``G``'s
+    alphabet.
+
+    >>> from supcoord import Event, Generator, allevents
+    >>> G = Generator(2, [Event("a", True), Event("u", False)], [(0, "a", 1), (1, "u", 0)], 0, [0])
+    >>> A = allevents(G)
+    >>> A.n_states, sorted(A.enabled(0))
+    (1, ['a', 'u'])
+    """
+    from .des import explicit_ops, symbolic_ops
+    from .des.generator import Generator
+    from .des.symbolic import SymbolicGenerator
+
+    if isinstance(G, SymbolicGenerator):
+        return symbolic_ops.allevents(G.ctx, G, name=name)
+    if isinstance(G, Generator):
+        return explicit_ops.allevents(G, name=name)
+    raise InputError(f"allevents takes a Generator or SymbolicGenerator, got {type(G).__name__}", value=G)
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'supcoord' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # cache: the next access is a plain attribute
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
+    from .cli.cmd_paper import solve_paper
+    from .des.generator import Event, Generator, tct_event
+    from .des.io import read_generator, write_generator
+    from .des.io_dot import to_dot
+    from .des.symbolic import SymbolicGenerator, from_explicit, to_explicit
+    from .positioners.coupled import CoupledModel, Geometry, coupled_models
+    from .positioners.demo import describe, run_demo
+    from .positioners.figures import plot_problem, save_plan_gif, save_plan_strip
+    from .positioners.paper import (
+        PaperInstance,
+        decode_label,
+        event_label,
+        literal_models,
+        paper_example,
+        random_instance,
+    )
+    from .positioners.plan import Plan, load_plan, plan_from_moves
+    from .positioners.presets import PRESETS, preset_problem
+    from .positioners.problem import Problem, load_problem, parse_problem
+    from .positioners.random_problems import random_problem
+    from .positioners.validate import validate_plan
+    from .symbolic.context import Budget, Context
+    from .synthesis.ccc import CCCResult, ccc
+    from .synthesis.checks import is_controllable, is_nonblocking
+    from .synthesis.forcibility import Layers, bfa, forcible_layers
+    from .synthesis.reachability import coreachable, reachable
+    from .synthesis.supcon import SupconResult, lift_spec, supcon
+    from .synthesis.witness import forcing_paths, strategy, witness
