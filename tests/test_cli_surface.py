@@ -1,0 +1,483 @@
+"""The command line's surface, for every command registered in ``supcoord.cli.main``.
+
+The contract (``/work/shared/formats.md``, docs/cli.md):
+
+- ``supcoord COMMAND --help`` exits 0 and shows an example;
+- ``--json`` prints exactly one JSON object on stdout (progress and logs go to stderr),
+  with the keys formats.md promises;
+- a user error exits 2 with exactly one line on stderr starting ``supcoord: error:``,
+  and never a traceback — checked by hypothesis fuzzing of the files each command
+  reads (.gen/.json generators for ``supcon`` and ``force``, PROBLEM.json for ``solve``
+  and ``check``, PLAN.json for ``check``);
+- a budget that runs out exits 3 with ``"status": "unknown"``.
+
+Commands are run in-process through :func:`supcoord.cli.main.main`, so an exception
+that escapes it (which the console script would print as a traceback, exit 1) fails
+the test with the input that caused it; a few runs go through a real subprocess.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import copy
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from supcoord.cli.main import build_parser, main
+
+DATA = Path(__file__).resolve().parents[1] / "src" / "supcoord" / "data" / "classic" / "small_factory"
+#: examples per fuzz test; SUPCOORD_FUZZ_EXAMPLES=1000 for a longer hunt
+FUZZ = settings(max_examples=int(os.environ.get("SUPCOORD_FUZZ_EXAMPLES", "60")), deadline=None,
+                suppress_health_check=list(HealthCheck))
+
+
+def registered_commands() -> dict[str, argparse.ArgumentParser]:
+    for action in build_parser()._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
+COMMANDS = registered_commands()
+FILE_COMMANDS = ["supcon", "force", "solve", "check"]
+
+
+def run(*argv: str) -> tuple[int, str, str]:
+    """``(exit status, stdout, stderr)`` of ``supcoord ARGV`` run in-process."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main([str(a) for a in argv])
+        except BaseException as exc:  # what the console script would show as a traceback
+            raise AssertionError(f"supcoord {' '.join(map(str, argv))} raised {type(exc).__name__}: {exc}\n"
+                                 f"stderr so far: {err.getvalue()}") from exc
+    return code, out.getvalue(), err.getvalue()
+
+
+def one_json_object(out: str) -> dict:
+    """The single JSON object that is all of ``out`` (fails otherwise)."""
+    text = out.strip()
+    assert text, "nothing on stdout"
+    obj, end = json.JSONDecoder().raw_decode(text)
+    assert text[end:].strip() == "", f"more than one JSON value on stdout: {text[end:end + 80]!r}"
+    assert isinstance(obj, dict), f"stdout holds a JSON {type(obj).__name__}, not an object"
+    return obj
+
+
+def one_error_line(code: int, out: str, err: str, what: str = "") -> str:
+    assert "Traceback" not in err and "Traceback" not in out, f"traceback for {what}:\n{err}"
+    assert code == 2, f"exit status {code} (expected 2) for {what}; stderr: {err!r}"
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, f"{len(lines)} stderr lines (expected 1) for {what}: {err!r}"
+    assert lines[0].startswith("supcoord: error: "), f"stderr line lacks 'supcoord: error:' for {what}: {lines[0]!r}"
+    return lines[0]
+
+
+def need(command: str) -> None:
+    """Skip (visibly, with the reason in -ra output) a command not registered yet."""
+    if command not in COMMANDS:
+        pytest.skip(f"'supcoord {command}' is not registered in supcoord.cli.main yet")
+
+
+# -- fixtures: small valid inputs for every command ------------------------------------
+
+GEN_SAMPLE = """<Generator> "V"
+<Alphabet> "a" +C+ "b" +C+ "u" </Alphabet>
+<States> "s0" "s1" "s2" "s3" </States>
+<TransRel>
+"s0" "a" "s1"
+"s1" "u" "s2"
+"s1" "b" "s3"
+"s2" "b" "s3"
+</TransRel>
+<InitStates> "s0" </InitStates>
+<MarkedStates> "s3" </MarkedStates>
+</Generator>
+"""
+
+JSON_SAMPLE = json.dumps({
+    "name": "V", "states": 3, "init": 0, "marked": [2],
+    "events": [{"name": "71", "controllable": True}, {"name": "10", "controllable": False}],
+    "transitions": [[0, "71", 1], [1, "10", 2]],
+})
+
+#: two rotary positioners far apart, positioner 0 turns one step
+PROBLEM = {
+    "layout": {"kind": "points", "xy": [[0.0, 0.0], [22.4, 0.0]]},
+    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    "collision": {"buffer": 2.0},
+    "start": [3, 9],
+    "target": [4, 9],
+    "priority": [1, 2],
+}
+PLAN = {"status": "complete", "configurations": [[3, 9], [4, 9]], "makespan": 1, "lower_bound": 1,
+        "events": ["v0"], "reason": "", "stats": {}}
+
+
+def write(tmp: Path, name: str, content) -> str:
+    path = tmp / name
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content if isinstance(content, str) else json.dumps(content), encoding="utf-8")
+    return str(path)
+
+
+def invocation(command: str, tmp: Path) -> list[str]:
+    """A valid ``--json`` invocation of ``command`` on small inputs."""
+    if command == "demo":
+        return ["demo", "--json", "--no-files"]
+    if command == "paper":
+        return ["paper", "--positioners", "3", "--steps", "6", "--json"]
+    if command == "supcon":
+        return ["supcon", "--plant", DATA / "MACH1.gen", DATA / "MACH2.gen", "--spec", DATA / "BUF.gen",
+                DATA / "BR.gen", "--export", tmp / "V.gen", "--json"]
+    if command == "force":
+        return ["force", write(tmp, "V.gen", GEN_SAMPLE), "--json"]
+    if command == "solve":
+        return ["solve", write(tmp, "problem.json", PROBLEM), "--out", tmp / "plan.json", "--json"]
+    if command == "check":
+        return ["check", write(tmp, "problem.json", PROBLEM), write(tmp, "plan.json", PLAN), "--json"]
+    raise AssertionError(f"tests/test_cli_surface.py has no valid invocation of the new command "
+                         f"'supcoord {command}': add one to invocation()")
+
+
+#: the keys formats.md (and the issues) promise in each command's JSON
+KEYS = {
+    "demo": {"supervisor", "ccc", "witness", "literal"},
+    "paper": {"positioners", "steps", "model", "supervisor_states", "bdd_nodes", "ccc", "witness_length", "seconds"},
+    "supcon": {"status", "states", "transitions", "marked", "bdd_nodes", "seconds"},
+    "force": {"status", "forcible", "witness", "rank", "layers"},
+    "solve": {"status", "configurations", "makespan", "lower_bound", "events", "reason", "stats"},
+    "check": {"valid", "collisions", "at_target", "problems"},
+}
+
+
+# -- --help ---------------------------------------------------------------------------
+
+
+def test_the_contract_commands_are_registered():
+    assert {"demo", "paper", "force", "check"} <= set(COMMANDS), sorted(COMMANDS)
+
+
+def test_every_command_help_shows_an_example():
+    failing, lacking = [], []
+    for name in COMMANDS:
+        code, out, err = run(name, "--help")
+        if code != 0:
+            failing.append(f"{name} (exit {code}: {err.strip()[:120]})")
+        elif "example" not in out.lower():
+            lacking.append(name)
+    assert not failing, f"'supcoord COMMAND --help' failed for: {', '.join(failing)}"
+    assert not lacking, f"'supcoord COMMAND --help' shows no example for: {', '.join(lacking)}"
+
+
+def test_top_level_help_lists_every_command():
+    code, out, _ = run("--help")
+    assert code == 0
+    missing = [name for name in COMMANDS if name not in out]
+    assert not missing, f"'supcoord --help' does not list: {missing}"
+
+
+def test_every_command_offers_json_quiet_verbose():
+    lacking = {}
+    for name, parser in COMMANDS.items():
+        options = {s for a in parser._actions for s in a.option_strings}
+        miss = [o for o in ("--json", "--quiet", "--verbose") if o not in options]
+        if miss:
+            lacking[name] = miss
+    assert not lacking, f"commands lacking common options: {lacking}"
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
+def test_long_running_commands_offer_budgets(command):
+    need(command)
+    options = {s for a in COMMANDS[command]._actions for s in a.option_strings}
+    assert {"--max-nodes", "--timeout"} <= options, f"'supcoord {command}' lacks --max-nodes/--timeout"
+
+
+def test_no_command_is_a_usage_error():
+    code, out, err = run()
+    assert code == 2 and "usage" in err.lower()
+
+
+# -- --json: exactly one JSON object on stdout ----------------------------------------
+
+
+@pytest.mark.parametrize("command", sorted(set(COMMANDS) | {"supcon", "solve"}))
+def test_json_is_exactly_one_object(command, tmp_path):
+    need(command)
+    argv = invocation(command, tmp_path)
+    code, out, err = run(*argv)
+    assert code == 0, f"supcoord {' '.join(map(str, argv))} exited {code}: {err}"
+    obj = one_json_object(out)
+    missing = KEYS.get(command, set()) - set(obj)
+    assert not missing, f"'supcoord {command} --json' lacks keys {sorted(missing)}"
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
+def test_verbose_progress_goes_to_stderr_not_stdout(command, tmp_path):
+    need(command)
+    code, out, err = run(*invocation(command, tmp_path), "--verbose")
+    assert code == 0
+    one_json_object(out)
+    assert err.strip(), f"'supcoord {command} --verbose' reports no progress on stderr"
+
+
+def test_text_report_without_json(tmp_path):
+    code, out, _ = run(*[a for a in invocation("force", tmp_path) if a != "--json"])
+    assert code == 0 and "FORCIBLE" in out and not out.lstrip().startswith("{")
+
+
+def test_solve_then_check(tmp_path):
+    need("solve")
+    code, out, err = run(*invocation("solve", tmp_path))
+    assert code == 0, err
+    plan = one_json_object(out)
+    assert plan["status"] == "complete"
+    code, out, err = run("check", tmp_path / "problem.json", tmp_path / "plan.json", "--json")
+    assert code == 0 and one_json_object(out)["valid"], out
+
+
+# -- budgets: exit 3 with status unknown ------------------------------------------------
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
+def test_node_budget_exits_3_with_partial_statistics(command, tmp_path):
+    need(command)
+    code, out, err = run(*invocation(command, tmp_path), "--max-nodes", "1")
+    assert code == 3, f"'supcoord {command} --max-nodes 1' exited {code}: {err}"
+    obj = one_json_object(out)
+    assert obj["status"] == "unknown" and isinstance(obj.get("stats"), dict)
+    assert "Traceback" not in err
+
+
+# -- user errors: exit 2, one line ---------------------------------------------------
+
+
+@pytest.mark.parametrize("command", FILE_COMMANDS)
+def test_missing_file_is_one_line(command, tmp_path):
+    need(command)
+    nope = str(tmp_path / "nope.gen")
+    argv = {
+        "supcon": ["supcon", "--plant", nope, "--spec", DATA / "BUF.gen"],
+        "force": ["force", nope],
+        "solve": ["solve", tmp_path / "nope.json"],
+        "check": ["check", tmp_path / "nope.json", tmp_path / "nope.json"],
+    }[command]
+    line = one_error_line(*run(*argv, "--json"), what=command)
+    assert "nope" in line, f"the error line does not name the file: {line}"
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
+def test_bad_budget_values_are_one_line(command, tmp_path):
+    need(command)
+    one_error_line(*run(*invocation(command, tmp_path), "--max-nodes", "0"), what=f"{command} --max-nodes 0")
+    one_error_line(*run(*invocation(command, tmp_path), "--timeout", "-1"), what=f"{command} --timeout -1")
+
+
+@pytest.mark.parametrize("argv", [
+    ["paper", "--positioners", "0", "--steps", "12"],
+    ["paper", "--positioners", "3", "--steps", "1"],
+    ["force", "GEN", "--target", "no-such-state"],
+])
+def test_bad_values_are_one_line(argv, tmp_path):
+    gen = write(tmp_path, "V.gen", GEN_SAMPLE)
+    argv = [gen if a == "GEN" else a for a in argv]
+    line = one_error_line(*run(*argv), what=" ".join(argv))
+    assert any(tok in line for tok in ("--positioners", "--steps", "--target")), line
+
+
+def test_console_script_prints_no_traceback(tmp_path):
+    """The real process: a malformed file gives exit 2 and one line, no traceback."""
+    bad = write(tmp_path, "bad.gen", "<Generator> \"x\" <Alphabet> \"a\" +C+")
+    proc = subprocess.run([sys.executable, "-m", "supcoord.cli", "force", bad, "--json"], capture_output=True,
+                          text=True, timeout=120)
+    one_error_line(proc.returncode, proc.stdout, proc.stderr, what="python -m supcoord.cli force bad.gen")
+    assert "bad.gen" in proc.stderr
+
+
+# -- fuzzing the files every command reads ---------------------------------------------
+
+TOKENS = "<>/\"'+=%#&;! \n\tabcsuxyzCT0123456789[]{},:.-" + "AlphabetStatesTransRelInitMarkedGenerator"
+
+
+@st.composite
+def mutations(draw, text: str) -> str:
+    """``text`` with a few random deletions, insertions, replacements, truncations."""
+    for _ in range(draw(st.integers(1, 5))):
+        i = draw(st.integers(0, len(text)))
+        op = draw(st.sampled_from(["delete", "insert", "replace", "truncate", "duplicate"]))
+        chunk = draw(st.text(alphabet=TOKENS, min_size=1, max_size=8))
+        if op == "delete":
+            text = text[:i] + text[i + len(chunk):]
+        elif op == "insert":
+            text = text[:i] + chunk + text[i:]
+        elif op == "replace":
+            text = text[:i] + chunk + text[i + len(chunk):]
+        elif op == "truncate":
+            text = text[:i]
+        else:
+            j = draw(st.integers(0, len(text)))
+            text = text[:i] + text[min(i, j):max(i, j)] + text[i:]
+    return text
+
+
+#: contents that are malformed whatever the command: garbage, non-UTF-8, cut-off files
+broken_gen = st.one_of(
+    st.just(""),
+    st.binary(min_size=1, max_size=40).map(lambda b: b"\xff\xfe" + b),
+    st.integers(1, GEN_SAMPLE.index("</TransRel>")).map(lambda i: GEN_SAMPLE[:i]),
+    st.text(alphabet="{}[]:,\"'abc 0123456789", max_size=30).map(lambda t: "garbage " + t),
+)
+broken_json = st.one_of(
+    st.just(""),
+    st.binary(min_size=1, max_size=40).map(lambda b: b"\xff\xfe" + b),
+    st.integers(1, len(JSON_SAMPLE) - 1).map(lambda i: JSON_SAMPLE[:i]),
+    st.sampled_from(["[]", "null", "42", '"text"', "[1, 2]", "{}", '{"states": "many"}']),
+)
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers(-10**12, 10**12) | st.floats(allow_nan=False) | st.text(max_size=5),
+    lambda children: st.lists(children, max_size=3) | st.dictionaries(st.text(max_size=5), children, max_size=3),
+    max_leaves=6,
+)
+small_values = st.sampled_from([0, 1, -1, 2, 3, 12, 0.5, -0.0, 1e300, True, None, "x", "", [], {}, [0], [1, 2, 3],
+                                [[0, 0]], "hex", "points", "rotary", "alpha-beta"])
+
+
+def _paths(node, prefix=()):
+    yield prefix
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _paths(v, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _paths(v, prefix + (i,))
+
+
+@st.composite
+def mutated_json(draw, base: dict) -> dict:
+    """``base`` with one to three fields replaced, deleted or extended."""
+    data = copy.deepcopy(base)
+    for _ in range(draw(st.integers(1, 3))):
+        paths = [p for p in _paths(data) if p]
+        if not paths:
+            break
+        path = draw(st.sampled_from(paths))
+        *head, last = path
+        node = data
+        for key in head:
+            node = node[key]
+        action = draw(st.sampled_from(["replace", "small", "small", "delete", "append"]))
+        if action == "delete":
+            del node[last]
+        elif action == "append" and isinstance(node[last], list):
+            node[last].append(copy.deepcopy(draw(small_values)))
+        elif action == "replace":
+            node[last] = draw(json_values)
+        else:
+            node[last] = copy.deepcopy(draw(small_values))
+    return data
+
+
+def check_answer_or_user_error(command: str, argv: list, what: str, *, budgets_ok: bool = False) -> None:
+    """Exit 0 with one JSON object, or exit 2 with one error line (3 if a budget ran out)."""
+    code, out, err = run(*argv)
+    assert "Traceback" not in err, f"traceback for {what}"
+    if code == 0:
+        one_json_object(out)
+    elif code == 3 and budgets_ok:
+        assert one_json_object(out)["status"] == "unknown"
+    else:
+        one_error_line(code, out, err, what)
+
+
+def _gen_file(tmp: Path, content, suffix: str) -> str:
+    return write(tmp, f"fuzz{suffix}", content)
+
+
+@FUZZ
+@given(content=st.one_of(mutations(GEN_SAMPLE), broken_gen))
+def test_fuzz_force_gen(tmp_path_factory, content):
+    need("force")
+    path = _gen_file(tmp_path_factory.mktemp("force"), content, ".gen")
+    check_answer_or_user_error("force", ["force", path, "--json"], f"force on .gen content {content!r}")
+
+
+@FUZZ
+@given(content=broken_gen)
+def test_fuzz_force_broken_gen_exits_2(tmp_path_factory, content):
+    need("force")
+    path = _gen_file(tmp_path_factory.mktemp("force"), content, ".gen")
+    line = one_error_line(*run("force", path, "--json"), what=f"force on .gen content {content!r}")
+    assert "fuzz.gen" in line, f"the error does not name the file: {line}"
+
+
+@FUZZ
+@given(content=st.one_of(mutations(JSON_SAMPLE), broken_json,
+                         mutated_json(json.loads(JSON_SAMPLE)).map(json.dumps)))
+def test_fuzz_force_json_generator(tmp_path_factory, content):
+    need("force")
+    path = _gen_file(tmp_path_factory.mktemp("force"), content, ".json")
+    check_answer_or_user_error("force", ["force", path, "--json"], f"force on .json content {content!r}")
+
+
+@FUZZ
+@given(plant=st.one_of(mutations(GEN_SAMPLE), broken_gen), spec=st.one_of(st.none(), mutations(GEN_SAMPLE)))
+def test_fuzz_supcon_gen(tmp_path_factory, plant, spec):
+    need("supcon")
+    tmp = tmp_path_factory.mktemp("supcon")
+    p = write(tmp, "plant.gen", plant)
+    s = write(tmp, "spec.gen", spec if spec is not None else GEN_SAMPLE)
+    check_answer_or_user_error("supcon", ["supcon", "--plant", p, "--spec", s, "--json"],
+                               f"supcon on plant {plant!r} spec {spec!r}")
+
+
+@FUZZ
+@given(content=broken_gen)
+def test_fuzz_supcon_broken_gen_exits_2(tmp_path_factory, content):
+    need("supcon")
+    tmp = tmp_path_factory.mktemp("supcon")
+    path = write(tmp, "fuzz.gen", content)
+    line = one_error_line(*run("supcon", "--plant", path, "--spec", DATA / "BUF.gen", "--json"),
+                          what=f"supcon on plant {content!r}")
+    assert "fuzz.gen" in line, f"the error does not name the file: {line}"
+
+
+@FUZZ
+@given(problem=st.one_of(mutated_json(PROBLEM).map(json.dumps), broken_json),
+       plan=st.one_of(st.just(PLAN), mutated_json(PLAN)))
+def test_fuzz_check_files(tmp_path_factory, problem, plan):
+    need("check")
+    tmp = tmp_path_factory.mktemp("check")
+    argv = ["check", write(tmp, "problem.json", problem), write(tmp, "plan.json", json.dumps(plan)), "--json"]
+    check_answer_or_user_error("check", argv, f"check on problem {problem!r} plan {plan!r}")
+
+
+@FUZZ
+@given(problem=broken_json)
+def test_fuzz_check_broken_problem_exits_2(tmp_path_factory, problem):
+    need("check")
+    tmp = tmp_path_factory.mktemp("check")
+    line = one_error_line(*run("check", write(tmp, "problem.json", problem), write(tmp, "plan.json", PLAN), "--json"),
+                          what=f"check on problem {problem!r}")
+    assert "problem.json" in line, f"the error does not name the file: {line}"
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=list(HealthCheck))
+@given(problem=st.one_of(mutated_json(PROBLEM).map(json.dumps), broken_json))
+def test_fuzz_solve_problem(tmp_path_factory, problem):
+    need("solve")
+    tmp = tmp_path_factory.mktemp("solve")
+    argv = ["solve", write(tmp, "problem.json", problem), "--json", "--timeout", "20"]
+    check_answer_or_user_error("solve", argv, f"solve on problem {problem!r}", budgets_ok=True)
