@@ -191,6 +191,9 @@ def test_nondeterministic_input():
     ev = Event("a", True)
     G = SymbolicGenerator(ctx, "N", ("x",), {"a": EventRelation(ev, rel, ("x",))}, ctx.eq("x", 0), ctx.true, ctx.domain(["x"]))
     assert raised(NondeterminismError, check_deterministic, G).value == ("a", {"x": 0})
+    assert raised(NondeterminismError, supcon, G, S.allevents(ctx, [ev])).value == ("a", {"x": 0})
+    two_inits = SymbolicGenerator(ctx, "I", ("x",), {}, ctx.less_than("x", 2), ctx.true, ctx.domain(["x"]))
+    assert raised(NondeterminismError, check_deterministic, two_inits).value == ("<init>", {"x": 0})
     check_deterministic(from_explicit(ctx, small_factory()[0][0]))  # no error
 
 

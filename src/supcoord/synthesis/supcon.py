@@ -132,10 +132,17 @@ def _bad_states(G: SymbolicGenerator, P: SymbolicGenerator) -> BDD:
 
 
 def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", method: str = DEFAULT_METHOD) -> SupconResult:
-    """The supremal controllable and nonblocking supervisor of ``G`` for ``E`` (TCT meaning)."""
+    """The supremal controllable and nonblocking supervisor of ``G`` for ``E`` (TCT meaning).
+
+    Raises :class:`~supcoord.errors.AlphabetError` (see :func:`check_alphabets`) and
+    :class:`~supcoord.errors.NondeterminismError` for a nondeterministic ``G`` or ``E``."""
+    from .checks import check_deterministic  # checks builds on this module
+
     t0 = time.perf_counter()
     ctx = G.ctx
     P = product(G, E, name)
+    check_deterministic(G)
+    check_deterministic(E)
     unc = P.uncontrollable
     r0 = reachable(P, method=method)  # Reach(P)
     z = r0 & ~_bad_states(G, P)
