@@ -100,6 +100,7 @@ def plant_and_candidate(draw):
     return G, K
 
 
+@settings(max_examples=100)
 @given(plant_and_candidate())
 def test_checks_agree_with_libfaudes(pair):
     G, K = pair
@@ -222,3 +223,32 @@ def test_lift_spec_both_types():
     assert lift_spec(G.alphabet, lifted).same_as(lifted)  # nothing to add
     with pytest.raises(InputError):
         lift_spec(G, "not a generator")
+
+
+# -- scalable families: every method and variable order gives the explicit answer ------
+
+
+@pytest.mark.parametrize("family,size", [("coupled_factories", 2), ("transfer_line_chain", 2),
+                                         ("dining_philosophers", 4), ("machine_line", 4)])
+def test_families_every_method_and_order(family, size):
+    from supcoord.des.families import FAMILIES
+    from supcoord.symbolic.ordering import ORDERINGS, order_components
+
+    plants, specs = FAMILIES[family](size)
+    G = X.sync(*plants)
+    E = X.sync(*specs) if specs else X.allevents(G)
+    expected = supcon_naive(G, lift_spec(G, E))
+    comps = plants + specs
+    for ordering in ORDERINGS:
+        order = order_components([set(g.events) for g in comps], ordering, [False] * len(plants) + [True] * len(specs))
+        for method in METHODS:
+            ctx = Context()
+            sym = {i: from_explicit(ctx, comps[i], var=f"c{i}") for i in order}
+            Gs = S.sync(*(sym[i] for i in range(len(plants))))
+            Es = S.sync(*(sym[i] for i in range(len(plants), len(comps)))) if specs else S.allevents(ctx, [])
+            result = supcon(Gs, lift_spec(Gs, Es), method=method)
+            st_ = result.stats
+            assert (st_["states"], st_["transitions"], st_["marked"]) == (
+                expected.n_states, expected.n_transitions, len(expected.marked)), (ordering, method)
+            if (ordering, method) == ("rcm", "saturation"):
+                assert to_explicit(result.supervisor).same_as(expected)
