@@ -20,6 +20,9 @@ from .plan import Plan, compact_moves, event_name, load_plan, lower_bound, parse
 from .validate import validate_plan
 from .random_problems import random_configuration, random_problem
 from .presets import PRESETS, Preset, preset_problem
+from .coordination import CoordinationModel, conflict_components, rcm_order
+from .planner import solve
+from .search_naive import bfs_plan_naive, optimal_makespan_naive
 
 __all__ = [
     "hex_count",
@@ -56,4 +59,10 @@ __all__ = [
     "PRESETS",
     "Preset",
     "preset_problem",
+    "CoordinationModel",
+    "conflict_components",
+    "rcm_order",
+    "solve",
+    "bfs_plan_naive",
+    "optimal_makespan_naive",
 ]

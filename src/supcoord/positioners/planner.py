@@ -1,0 +1,262 @@
+"""``solve``: a coordination problem → a validated plan, a certificate of infeasibility, or "unknown".
+
+Two routes over the guarded model of :mod:`.coordination`, both exact with respect to
+the discretised single-move model (``formats.md``):
+
+- ``"monolithic"`` — the plain method of the seed paper on the whole grid in layout
+  order: ``G`` = every positioner's guarded moves, ``V = supcon(G, allevents(G))`` (with
+  only controllable events and a trivial specification, the trim part of ``G``), then
+  forcibility layers ``W(0) = Qm``, ``W(k+1) = W(k) ∪ Pre(W(k))`` inside ``V``: feasible iff
+  ``q0 ∈ W(∞)``, and ``rank(q0)`` is the length of a shortest single-move plan.
+- ``"local"`` (default) — the same symbolic machinery on windows
+  (:mod:`.planner_local`): conflict components, windows grown around an unfinished
+  positioner with the rest frozen, relaxed subproblems as certificates of infeasibility,
+  the whole component as the last (exact) window.
+
+A witness is read forward through the layers (:func:`witness_moves`): at rank ``k``
+some move leads into ``L(k−1)``; among those the tie-break prefers a joint that has not
+moved since the current simultaneous step began, then the higher priority (smaller
+number), then the event name — which interleaves positioners so that the
+as-soon-as-possible schedule (:mod:`.planner_schedule`) packs them into few steps.
+Every complete plan is checked with the independent validator before it is returned.
+
+References
+----------
+- A. Macktoobian, D. Gillet, J.-P. Kneib, IFAC LSS 2019 (supcon + CCC on positioners).
+- W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, 2019.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from ..des.symbolic_ops import allevents
+from ..errors import BudgetExceeded, ModelError
+from ..symbolic.context import BDD, Budget
+from ..synthesis.supcon import supcon
+from .coordination import CoordinationModel, GuardedSystem, var_names
+from .plan import Move, Plan, lower_bound
+from .planner_schedule import plan_from_schedule
+from .problem import Problem
+from .validate import validate_plan
+
+__all__ = ["ROUTES", "solve", "solve_window", "move_layers", "witness_moves", "WindowResult", "MoveLayers"]
+
+ROUTES = ("local", "monolithic")
+#: seconds between budget checks inside the layer fixpoint (a check reads CUDD's statistics)
+CHECK_EVERY = 0.2
+
+
+class WindowResult:
+    """The outcome of one exact symbolic solve: ``rank`` (None: infeasible), ``moves``,
+    ``layers`` sizes count, ``nodes``."""
+
+    def __init__(self, rank: int | None, moves: list[Move], stats: dict[str, Any]):
+        self.rank = rank
+        self.moves = moves
+        self.stats = stats
+
+    @property
+    def feasible(self) -> bool:
+        return self.rank is not None
+
+
+@dataclass
+class MoveLayers:
+    """``layers[k] = L(k)`` of :func:`move_layers`; ``complete`` is False when stopped at the source."""
+
+    layers: list[BDD]
+    winning: BDD
+    complete: bool
+    stats: dict[str, Any]
+
+    def rank(self, state: BDD) -> int | None:
+        """Least ``k`` with ``state ⊆ W(k)``, None if none."""
+        false = self.winning.bdd.false
+        s = state
+        for k, layer in enumerate(self.layers):
+            s = s & ~layer
+            if s == false:
+                return k
+        return None
+
+
+def move_layers(S: GuardedSystem, target: BDD, stop_at: BDD | None = None, within: BDD | None = None) -> MoveLayers:
+    """Backward breadth-first layers of a guarded system (all events controllable)::
+
+        L(0) = T,   L(k+1) = Pre(L(k)) minus W(k),   W(k) = L(0) ∪ … ∪ L(k)
+
+    With no uncontrollable event, ``Force(W) = {q : ∃c. δ(q,c) ∈ W} = Pre(W)`` under both
+    semantics of :mod:`supcoord.synthesis.forcibility`, and ``Pre(W(k)) \\ W(k) =
+    Pre(L(k)) \\ W(k)`` (a state with a successor in ``W(k−1)`` is already in ``W(k)``), so
+    these are exactly the layers of :func:`~supcoord.synthesis.forcible_layers` (tested),
+    computed on the frontier only with the guards kept partitioned
+    (:meth:`GuardedSystem.pre`).  ``within`` (e.g. a supervisor's states) bounds the
+    layers; the iteration stops once ``stop_at ⊆ W(k)``.
+    """
+    ctx = S.model.ctx
+    inside = S.invariant if within is None else S.invariant & within
+    t0 = checked = time.perf_counter()
+    checked -= CHECK_EVERY  # check once at the start
+    frontier = target & inside
+    w = frontier
+    layers = [frontier]
+    complete = True
+    k = 0
+    wold = None
+    while w != wold:
+        now = time.perf_counter()
+        if now - checked >= CHECK_EVERY:  # CUDD's statistics cost milliseconds: throttle
+            ctx.check_budget("layers", iteration=k, members=len(S.members))
+            checked = now
+        if stop_at is not None and (stop_at & ~w) == ctx.false:
+            complete = False
+            break
+        wold = w
+        pre = ctx.false
+        for e in S.moves:
+            pre |= S.pre(frontier, e)  # ⋃_σ Pre_σ(L(k))
+        frontier = pre & inside & ~w  # L(k+1) = Pre(L(k)) minus W(k)
+        if frontier != ctx.false:
+            w = w | frontier
+            layers.append(frontier)
+            k += 1
+    stats = {"iterations": k, "seconds": time.perf_counter() - t0}
+    return MoveLayers(layers, w, complete, stats)
+
+
+def witness_moves(S: GuardedSystem, lay: MoveLayers, init: np.ndarray) -> list[Move]:
+    """A shortest move sequence from ``init`` (``(N, J)``, the system's initial state) to the
+    target through the layers (tie-breaks in the module docstring)."""
+    model = S.model
+    ctx, kin = model.ctx, model.kin
+    q = model.state(S.members, init)
+    k = lay.rank(q)
+    if k is None:
+        raise ModelError("witness_moves: the initial state is not in the winning set", value=S.members)
+    priority = model.problem.priority
+    events = sorted(S.moves, key=lambda e: (priority[S.moves[e].move[0]], e))
+    cfg = init.copy()
+    open_step: set[tuple[int, int]] = set()
+    out: list[Move] = []
+    while k > 0:
+        below = lay.layers[k - 1]
+        best = None
+        for e in events:
+            p, joint, d = S.moves[e].move
+            fresh = (p, joint) not in open_step
+            if best is not None and not fresh:
+                continue
+            nxt = kin.step(cfg[p], joint, d)
+            if nxt is None or not S.allowed(q, e):
+                continue
+            succ = ctx.exist(var_names(model.problem, p), q) & model.position_cube(p, nxt)
+            if succ & below == ctx.false:  # δ(q, e) ∉ L(k−1)
+                continue
+            best = (fresh, (p, joint, d), succ, nxt)
+            if fresh:
+                break
+        if best is None:
+            raise ModelError(f"no move out of layer {k}: layers from another system?", value=k)
+        fresh, mv, q, nxt = best
+        if not fresh:
+            open_step = set()
+        open_step.add((mv[0], mv[1]))
+        cfg[mv[0]] = nxt
+        out.append(mv)
+        k -= 1
+    return out
+
+
+def solve_window(model: CoordinationModel, members: Sequence[int], frozen: np.ndarray | None,
+                 init: np.ndarray, *, supervisor: bool = False, want_moves: bool = True,
+                 goal: BDD | None = None) -> WindowResult:
+    """Exact symbolic solve of the members from ``init`` to their targets (or to ``goal``),
+    the others frozen at ``frozen`` (or removed when None): backward layers from the
+    target, stopped at ``q0``; with ``supervisor`` first ``V = supcon(G, allevents(G))``
+    and the layers inside ``V``."""
+    ctx = model.ctx
+    t0 = time.perf_counter()
+    S = model.system(members, frozen, init=init)
+    stats: dict[str, Any] = {"members": len(members)}
+    within = None
+    if supervisor:
+        G = S.to_generator()
+        res = supcon(G, allevents(ctx, G))
+        stats["supervisor_states"] = res.stats["states"]
+        stats["supervisor_nodes"] = res.stats["bdd_nodes"]
+        within = res.supervisor.invariant
+        if res.supervisor.init == ctx.false:
+            stats["seconds"] = time.perf_counter() - t0
+            return WindowResult(None, [], stats)
+    target = S.marked if goal is None else goal & S.invariant
+    lay = move_layers(S, target, stop_at=S.init, within=within)  # until q0 ∈ W(k)
+    rank = lay.rank(S.init)
+    moves = witness_moves(S, lay, init) if (rank is not None and want_moves) else []
+    stats.update(rank=rank, layers=len(lay.layers), seconds=time.perf_counter() - t0)
+    return WindowResult(rank, moves, stats)
+
+
+def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
+    ids = ", ".join(str(p) for p in sorted(members))
+    return (f"positioners {ids} cannot all reach their targets even with every other positioner removed "
+            f"({how}); no plan exists for the whole problem")
+
+
+def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
+          budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
+          validate: bool = True) -> Plan:
+    """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
+
+    ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
+    ``"hex"`` (defaults: rcm for local, hex for monolithic); ``supervisor``: compute
+    ``supcon`` before forcibility (default: on for monolithic only).  A budget that runs
+    out raises :class:`BudgetExceeded` whose ``stats`` carry what was learned.
+    """
+    from ..errors import InputError
+    from .planner_local import solve_local
+
+    if route not in ROUTES:
+        raise InputError(f"unknown route {route!r} (use {' or '.join(ROUTES)})", value=route)
+    t0 = time.perf_counter()
+    budget = budget or Budget()
+    order = order or ("rcm" if route == "local" else "hex")
+    supervisor = (route == "monolithic") if supervisor is None else supervisor
+    model = CoordinationModel(problem, order=order, backend=backend, budget=budget, progress=progress)
+    stats: dict[str, Any] = {"route": route, "order": order, "positioners": problem.n}
+    try:
+        if route == "monolithic":
+            everyone = list(range(problem.n))
+            res = solve_window(model, everyone, None, problem.start, supervisor=supervisor)
+            stats.update(windows=1, largest_window=problem.n, single_moves=res.rank)
+            if "supervisor_states" in res.stats:
+                stats["supervisor_states"] = res.stats["supervisor_states"]
+            moves, certificate = (res.moves, None) if res.feasible else (None, (everyone, "exhaustive search"))
+        else:
+            moves, certificate = solve_local(problem, model, stats, supervisor=supervisor)
+    except BudgetExceeded as exc:
+        exc.stats.update({k: v for k, v in stats.items() if k not in exc.stats})
+        exc.stats.update(seconds=time.perf_counter() - t0, bdd_nodes=model.ctx.peak_nodes())
+        raise
+    stats["bdd_nodes"] = model.ctx.peak_nodes()
+    lb = lower_bound(problem)
+    if moves is None:
+        members, how = certificate
+        stats["seconds"] = time.perf_counter() - t0
+        stats["certificate"] = sorted(int(p) for p in members)
+        return Plan("infeasible", [], None, lb, [], _reason(problem, members, how), stats)
+    plan = plan_from_schedule(problem, moves)
+    stats["single_moves"] = len(moves)
+    stats["seconds"] = time.perf_counter() - t0
+    if validate:
+        result = validate_plan(problem, plan)
+        if not result["valid"]:  # a bug: never hand out a colliding plan
+            raise RuntimeError(f"internal error: the planner's plan fails validation: {result['problems'][:3]}")
+        stats["min_clearance"] = result["min_clearance"]
+        stats["validate_seconds"] = time.perf_counter() - t0 - stats["seconds"]
+    plan.stats = stats
+    return plan

@@ -1,0 +1,117 @@
+"""Explicit twins of the symbolic planner: breadth-first search over configurations.
+
+- :func:`bfs_plan_naive` — the single-move (interleaving) semantics of ``formats.md``
+  on the same guarded model as :mod:`.coordination`::
+
+      succ(c) = {c[p ↦ step_m(c_p)] : p ∈ P, m a move of p, step defined,
+                 ∀ (p, q) conflicting. ¬B_{p,m}(c_p, c_q)}
+
+  returns the BFS distance (the length of a shortest single-move plan, which the
+  symbolic ``rank(q0)`` must equal) and one shortest move sequence, or ``None`` when the
+  target is not reachable (the problem is infeasible).
+- :func:`optimal_makespan_naive` — the simultaneous semantics for rotary positioners:
+  in one step every positioner moves ``−1``, ``0`` or ``+1``, and the step is allowed when
+  every conflicting pair's simultaneous motion is free
+  (:meth:`CollisionTables.simultaneous`); BFS gives the optimal makespan, the yardstick
+  for the planner's compacted plans.
+
+Both enumerate ``∏ |Q_p|`` configurations: for 2–4 positioners only.
+
+References
+----------
+- E. F. Moore, The shortest path through a maze, 1959 (breadth-first search).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections import deque
+
+import numpy as np
+
+from ..errors import InputError
+from .coordination import blocked_table, conflict_graph
+from .plan import Move
+from .problem import Problem
+
+__all__ = ["bfs_plan_naive", "optimal_makespan_naive", "MAX_NAIVE_STATES"]
+
+#: refuse explicit searches over more configurations than this
+MAX_NAIVE_STATES = 5_000_000
+
+
+def _check_size(problem: Problem) -> None:
+    total = problem.kinematics.n_positions ** problem.n
+    if total > MAX_NAIVE_STATES:
+        raise InputError(f"explicit search over {total} configurations exceeds {MAX_NAIVE_STATES}", value=total)
+
+
+def bfs_plan_naive(problem: Problem, start: np.ndarray | None = None) -> tuple[int, list[Move]] | None:
+    """``(distance, moves)`` of a shortest single-move plan start → target, or ``None``."""
+    _check_size(problem)
+    kin = problem.kinematics
+    adj = conflict_graph(problem)
+    pos = kin.all_positions()
+    moves = kin.moves()
+    # successor table of one positioner: nxt[m, i] (−1 past a hard stop)
+    nxt = np.full((len(moves), len(pos)), -1, dtype=np.int64)
+    for m, (joint, delta) in enumerate(moves):
+        for i in range(len(pos)):
+            s = kin.step(pos[i], joint, delta)
+            if s is not None:
+                nxt[m, i] = int(kin.flat_index(s))
+    blocked = [[(q, blocked_table(problem, k, side)) for k, q, side in adj[p]] for p in range(problem.n)]
+    s0 = tuple(int(i) for i in kin.flat_index(problem.start if start is None else start))
+    goal = tuple(int(i) for i in kin.flat_index(problem.target))
+    parent: dict[tuple, tuple | None] = {s0: None}
+    queue = deque([s0])
+    while queue:
+        s = queue.popleft()
+        if s == goal:
+            break
+        for p in range(problem.n):
+            for m in range(len(moves)):
+                j = nxt[m, s[p]]
+                if j < 0 or any(b[m, s[p], s[q]] for q, b in blocked[p]):
+                    continue
+                t = s[:p] + (int(j),) + s[p + 1:]
+                if t not in parent:
+                    parent[t] = (s, (p, moves[m][0], moves[m][1]))
+                    queue.append(t)
+    if goal not in parent:
+        return None
+    out: list[Move] = []
+    s = goal
+    while parent[s] is not None:
+        s, mv = parent[s]  # type: ignore[misc]
+        out.append(mv)
+    return len(out), out[::-1]
+
+
+def optimal_makespan_naive(problem: Problem) -> int | None:
+    """Fewest simultaneous steps start → target (rotary only), or ``None`` if unreachable."""
+    kin = problem.kinematics
+    if kin.kind != "rotary":
+        raise InputError("optimal_makespan_naive handles rotary kinematics only", value=kin.kind)
+    _check_size(problem)
+    tables = problem.tables()
+    steps = kin.steps
+    pairs = [(int(a), int(b), tables.simultaneous(k)) for k, (a, b) in enumerate(problem.pairs)]
+    s0 = tuple(int(v) for v in problem.start[:, 0])
+    goal = tuple(int(v) for v in problem.target[:, 0])
+    # u = 0 stands, 1 = +1 (moves()[0]), 2 = −1 (moves()[1])
+    combos = [c for c in itertools.product((0, 1, 2), repeat=problem.n) if any(c)]
+    dist = {s0: 0}
+    queue = deque([s0])
+    while queue:
+        s = queue.popleft()
+        if s == goal:
+            return dist[s]
+        for c in combos:
+            if any(S[c[a], c[b], s[a], s[b]] for a, b, S in pairs):
+                continue
+            t = tuple((s[p] + (0, 1, -1)[c[p]]) % steps for p in range(problem.n))
+            if t not in dist:
+                dist[t] = dist[s] + 1
+                queue.append(t)
+    return None
