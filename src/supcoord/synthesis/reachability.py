@@ -64,22 +64,27 @@ DEFAULT_METHOD = "saturation"
 
 @dataclass(frozen=True)
 class _Step:
-    """One event's image in one direction: ``X ↦ image(X) ∩ inside``."""
+    """One event's image in one direction: ``X ↦ image(X) ∩ inside``.
+
+    Renaming ``x'_W ↔ x_W`` is itself an ``AndAbstract`` with the identity
+    ``I_W = ∧_{b ∈ W} (b ↔ b')`` (twins are adjacent levels): measured 1.4–2× faster
+    than ``dd``'s ``let``, whose vector composition loops over every declared variable."""
 
     event: str
     relation: BDD
-    qbits: tuple[str, ...]  # bits quantified by the AndAbstract
-    rename: dict  # written bits: primed -> unprimed (forward) or unprimed -> primed (backward)
+    qbits: tuple[str, ...]  # bits quantified by the image's AndAbstract
+    ident: BDD  # I_W
+    rbits: tuple[str, ...]  # bits quantified by the renaming AndAbstract
     forward: bool
     writes: frozenset[str]
     support: frozenset[str]  # variables read or written
 
     def image(self, ctx: Context, x: BDD, inside: BDD) -> BDD:
         if self.forward:
-            # Post_σ(X) = (∃ x_W . X ∧ R_σ)[x'_W := x_W] ∩ inside
-            return ctx.bdd.let(self.rename, ctx.and_exist(x, self.relation, self.qbits)) & inside
-        # Pre_σ(X) = ∃ x'_W . R_σ ∧ X[x_W := x'_W], ∩ inside
-        return ctx.and_exist(self.relation, ctx.bdd.let(self.rename, x), self.qbits) & inside
+            # Post_σ(X) = ∃ x'_W . (∃ x_W . X ∧ R_σ) ∧ I_W   — i.e. (…)[x'_W := x_W] — ∩ inside
+            return ctx.and_exist(ctx.and_exist(x, self.relation, self.qbits), self.ident, self.rbits) & inside
+        # Pre_σ(X) = ∃ x'_W . R_σ ∧ (∃ x_W . X ∧ I_W)   — i.e. X[x_W := x'_W] — ∩ inside
+        return ctx.and_exist(self.relation, ctx.and_exist(x, self.ident, self.rbits), self.qbits) & inside
 
 
 def _steps(G: SymbolicGenerator, events: Iterable[str] | None, forward: bool) -> list[_Step]:
@@ -91,18 +96,19 @@ def _steps(G: SymbolicGenerator, events: Iterable[str] | None, forward: bool) ->
         fv = ctx.vars[v]
         for b in fv.bits + fv.primed_bits:
             owner[b] = v
+    identities: dict[tuple[str, ...], BDD] = {}
     steps = []
     for name in G.events if events is None else events:
         r = G.relation(name)
         if not r.writes or r.relation == ctx.false:
             continue
-        bits, pbits = ctx.bits(r.writes), ctx.bits(r.writes, primed=True)
-        if forward:
-            qbits, rename = tuple(bits), dict(zip(pbits, bits))
-        else:
-            qbits, rename = tuple(pbits), dict(zip(bits, pbits))
+        bits, pbits = tuple(ctx.bits(r.writes)), tuple(ctx.bits(r.writes, primed=True))
+        ident = identities.get(tuple(r.writes))
+        if ident is None:
+            ident = identities[tuple(r.writes)] = ctx.identity(r.writes)
+        qbits, rbits = (bits, pbits) if forward else (pbits, bits)
         support = frozenset(owner.get(b, b) for b in ctx.bdd.support(r.relation)) | frozenset(r.writes)
-        steps.append(_Step(name, r.relation, qbits, rename, forward, frozenset(r.writes), support))
+        steps.append(_Step(name, r.relation, qbits, ident, rbits, forward, frozenset(r.writes), support))
     return steps
 
 
