@@ -252,3 +252,14 @@ def test_families_every_method_and_order(family, size):
                 expected.n_states, expected.n_transitions, len(expected.marked)), (ordering, method)
             if (ordering, method) == ("rcm", "saturation"):
                 assert to_explicit(result.supervisor).same_as(expected)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_pure_python_backend(method):
+    """The same answer with dd.autoref (no CUDD): AndAbstract falls back to ∃(u ∧ v)."""
+    plants, specs = small_factory()
+    ctx = Context("autoref")
+    Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
+    result = supcon(Gs, lift_spec(Gs, Es), method=method)
+    assert (result.stats["states"], result.stats["transitions"], result.stats["marked"]) == (12, 24, 1)
+    assert is_controllable(Gs, result.supervisor) and is_nonblocking(result.supervisor)
