@@ -27,7 +27,6 @@ from __future__ import annotations
 from ..des.generator import Generator
 from ..des.symbolic import EventRelation, SymbolicGenerator
 from ..errors import InputError, NondeterminismError
-from ..symbolic.context import BDD
 from .reachability import DEFAULT_METHOD, coreachable, coreachable_naive, reachable, reachable_naive
 from .supcon import _product_pairs, check_alphabets
 
