@@ -153,7 +153,7 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
         z = z & ~coreachable(P, r0 & ~z, within=r0, method=method, events=unc)  # Z \ UPre*(¬Z)
         z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
         i += 1
-        ctx.check_budget("supcon", iteration=i)
+        ctx.check_budget("supcon", iteration=i, z_nodes=ctx.node_count(z))
     V = P.restrict(z, name)
     stats = {
         "states": V.count_states(),
