@@ -41,23 +41,31 @@ def sync(*gens: SymbolicGenerator, name: str | None = None) -> SymbolicGenerator
                 raise InputError(f"variable {v!r} belongs to both {seen[v]!r} and {g.name!r}", value=v)
             seen[v] = g.name
     alphabet = merge_alphabets(g.alphabet for g in gens)
+    having: dict[str, list[EventRelation]] = {e: [] for e in alphabet}  # σ -> R_σ^i of the Gi with σ
+    for g in gens:
+        for e, r in g.events.items():
+            having[e].append(r)
     events = {}
     for e, ev in alphabet.items():
         rel = ctx.true
         writes: list[str] = []
-        for g in gens:
-            r = g.events.get(e)
-            if r is not None:
-                rel &= r.relation
-                writes.extend(r.writes)
+        for r in having[e]:
+            rel &= r.relation
+            writes.extend(r.writes)
         events[e] = EventRelation(ev, rel, tuple(writes))
     init, marked, inv = ctx.true, ctx.true, ctx.true
-    for g in gens:
-        init &= g.init
-        marked &= g.marked
-        inv &= g.invariant
+    for g in sorted(gens, key=lambda g: _top_level(ctx, g), reverse=True):
+        # deepest component first: each conjunction then costs only the new component's
+        # nodes (linear in the number of components, not quadratic)
+        init, marked, inv = g.init & init, g.marked & marked, g.invariant & inv
     variables = tuple(v for g in gens for v in g.variables)
     return SymbolicGenerator(ctx, name or "||".join(g.name for g in gens), variables, events, init, marked, inv)
+
+
+def _top_level(ctx: Context, g: SymbolicGenerator) -> int:
+    """The BDD level of ``g``'s uppermost bit (``-1`` for a generator without variables)."""
+    bits = ctx.bits(g.variables)
+    return min((ctx.bdd.level_of_var(b) for b in bits), default=-1)
 
 
 def meet(*gens: SymbolicGenerator, name: str | None = None) -> SymbolicGenerator:
