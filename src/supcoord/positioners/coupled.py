@@ -52,7 +52,7 @@ from ..des.generator import Generator
 from ..des.symbolic import EventRelation, SymbolicGenerator
 from ..errors import InputError
 from ..symbolic.context import BDD, Context
-from .paper import KINDS, PaperInstance, _cube, hex_sites, positioner_events, ring_step, spec_explicit, spec_symbolic
+from .paper import KINDS, PaperInstance, hex_sites, positioner_events, ring_step, spec_explicit, spec_symbolic
 
 __all__ = ["Geometry", "CoupledModel", "coupled_models", "coupled_models_explicit"]
 
@@ -208,8 +208,8 @@ class CoupledModel:
                 continue
             row = ctx.false
             for q in qs:
-                row |= _cube(ctx, {pj: int(q)})
-            u |= _cube(ctx, {pi: p}) & row
+                row |= ctx.eq(pj, int(q))
+            u |= ctx.eq(pi, p) & row
         return u
 
     def plant_symbolic(self, ctx: Context, i: int) -> SymbolicGenerator:
@@ -251,8 +251,8 @@ class CoupledModel:
         ev = positioner_events(num)
         events = {ev[k].name: EventRelation(ev[k], rel[k][0], rel[k][1]) for k in KINDS}
         return SymbolicGenerator(
-            ctx, f"G{num}", (pos, lvl), events, _cube(ctx, {pos: inst.start[i], lvl: 0}),
-            _cube(ctx, {pos: inst.target[i], lvl: 0}), ctx.domain([pos, lvl]),
+            ctx, f"G{num}", (pos, lvl), events, ctx.assignment({pos: inst.start[i], lvl: 0}),
+            ctx.assignment({pos: inst.target[i], lvl: 0}), ctx.domain([pos, lvl]),
         )
 
     @cached_property
@@ -286,8 +286,7 @@ def coupled_models(model: CoupledModel, ctx: Context | None = None) -> tuple[Sym
     specs = [spec_symbolic(ctx, i + 1, inst.steps, inst.start[i], inst.target[i], sees_priority=True, absorbing=False,
                            declare=False) for i in range(inst.size)]
     G = SO.sync(*plants, name="G")
-    S = SO.sync(*specs, name="S")
-    return G, SO.sync(SO.allevents(ctx, G), S, name="ALLxS")
+    return G, SO.sync(SO.allevents(ctx, G), SO.sync(*specs, name="S"), name="ALLxS")
 
 
 def plant_explicit(model: CoupledModel, max_states: int = 2_000_000) -> Generator:

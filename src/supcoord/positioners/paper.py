@@ -46,8 +46,8 @@ from typing import Sequence
 
 import numpy as np
 
-from ..des import symbolic_ops as SO
 from ..des import explicit_ops as XO
+from ..des import symbolic_ops as SO
 from ..des.generator import Event, Generator
 from ..des.symbolic import EventRelation, SymbolicGenerator
 from ..errors import InputError
@@ -310,23 +310,23 @@ def spec_explicit(number: int, steps: int, start: int, target: int, *, sees_prio
 # -- symbolic generators -----------------------------------------------------------
 
 
-def _cube(ctx: Context, values: dict[str, int], primed: dict[str, int] | None = None) -> BDD:
-    bits: dict[str, bool] = {}
-    for side, vals in ((False, values), (True, primed or {})):
-        for name, value in vals.items():
-            v = ctx.vars[name]
-            w = v.width
-            for i, b in enumerate(v.primed_bits if side else v.bits):
-                bits[b] = bool((value >> (w - 1 - i)) & 1)
-    return ctx.bdd.cube(bits)
-
-
 def ring_step(ctx: Context, var: str, n: int, delta: int) -> BDD:
-    """``{(x, x') : x' = x + delta mod n}`` over one variable."""
-    u = ctx.false
-    for j in range(n):
-        u |= _cube(ctx, {var: j}, {var: (j + delta) % n})
-    return u
+    """``{(x, x') : x' = x + delta mod n}`` for ``delta = ±1`` over one variable, as a
+    ripple-carry increment (decrement) on the bits plus the wrap-around pair: O(bits)
+    BDD operations.  ``x ∈ [0, n)`` is assumed (the invariant)."""
+    v = ctx.vars[var]
+    if delta not in (1, -1):
+        raise InputError(f"ring_step moves by ±1, got {delta!r}", value=delta)
+    bdd = ctx.bdd
+    rel, carry = ctx.true, ctx.true  # ±1: the carry (borrow) into the lowest bit is 1
+    for b, p in zip(reversed(v.bits), reversed(v.primed_bits)):  # least significant first
+        x, xp = bdd.var(b), bdd.var(p)
+        s = (x & ~carry) | (~x & carry)  # x_i xor c_i
+        rel &= (xp & s) | (~xp & ~s)  # x'_i = x_i xor c_i
+        carry = (x if delta == 1 else ~x) & carry  # carry of +1, borrow of -1
+    last, first = (n - 1, 0) if delta == 1 else (0, n - 1)
+    last = ctx.eq(var, last)
+    return (~last & rel) | (last & ctx.eq(var, first, primed=True))
 
 
 def _declare(ctx: Context, name: str, size: int, declare: bool) -> None:
@@ -362,7 +362,7 @@ def plant_symbolic(ctx: Context, number: int, steps: int, start: int, target: in
     }
     events = {ev[k].name: EventRelation(ev[k], rel[k][0], rel[k][1]) for k in KINDS}
     return SymbolicGenerator(
-        ctx, f"G{number}", (pos, lvl), events, _cube(ctx, {pos: start, lvl: 0}), _cube(ctx, {pos: target, lvl: 0}),
+        ctx, f"G{number}", (pos, lvl), events, ctx.assignment({pos: start, lvl: 0}), ctx.assignment({pos: target, lvl: 0}),
         ctx.domain([pos, lvl]),
     )
 
@@ -396,8 +396,7 @@ def literal_models(inst: PaperInstance, ctx: Context | None = None) -> tuple[Sym
         specs.append(spec_symbolic(ctx, num, inst.steps, inst.start[i], inst.target[i]))
     G = SO.sync(*plants, name="G")
     S = SO.sync(*specs, name="S")
-    E = SO.sync(SO.allevents(ctx, G), S, name="ALLxS")
-    return G, E
+    return G, SO.sync(SO.allevents(ctx, G), S, name="ALLxS")
 
 
 def literal_models_explicit(inst: PaperInstance) -> tuple[Generator, Generator]:
