@@ -111,6 +111,8 @@ class Context:
         self.progress = progress
         self._peak_nodes = 0
         self._rename_cache: dict[tuple[str, tuple[str, ...]], dict[str, str]] = {}
+        self._apa: Callable[[BDD, int], int] | None = None  # CUDD's exact count, once validated
+        self._apa_checked = False
 
     # -- declaration ---------------------------------------------------------
 
@@ -278,7 +280,8 @@ class Context:
 
     def count(self, u: BDD, names: Iterable[str], primed_names: Iterable[str] = ()) -> int:
         """Exact number of assignments to the bits of ``names`` (and primed bits of
-        ``primed_names``) satisfying ``u``: arbitrary-precision, unlike CUDD's double.
+        ``primed_names``) satisfying ``u``: arbitrary-precision, unlike CUDD's double
+        (in C with CUDD's ``Cudd_ApaCountMinterm`` where available, else in Python).
 
         ``u`` must not depend on other bits; invalid codes are counted as they are, so
         conjoin :meth:`domain` first where sizes are not powers of two.
@@ -288,7 +291,22 @@ class Context:
         extra = set(support) - set(care)
         if extra:
             raise InputError(f"count: predicate depends on bits outside the care set: {sorted(extra)[:5]}", value=sorted(extra))
+        if not self._apa_checked and self.backend == "cudd" and self.vars:
+            from .cudd_count import apa_counter
+
+            self._apa = apa_counter(self.bdd, self._module, exact_count)
+            self._apa_checked = True
+        if self._apa is not None:
+            return self._apa(u, len(set(care)))
         return exact_count(self.bdd, u, care)
+
+    @property
+    def fast_count(self) -> bool:
+        """Whether :meth:`count` runs in C (CUDD's arbitrary-precision count, validated
+        on first use; see :mod:`supcoord.symbolic.cudd_count`) rather than in Python."""
+        if not self._apa_checked and self.backend == "cudd" and self.vars:
+            self.count(self.false, [])
+        return self._apa is not None
 
     def pick(self, u: BDD, names: Sequence[str]) -> dict[str, int] | None:
         """One state in ``u`` as ``{variable: value}``, or ``None`` if ``u`` is empty."""

@@ -130,6 +130,28 @@ def _clusters(ctx: Context, steps: list[_Step]) -> list[list[_Step]]:
     return [groups[t] for t in sorted(groups, reverse=True)]
 
 
+def _merge_by_writes(ctx: Context, steps: list[_Step]) -> list[_Step]:
+    """One step per write set: ``Img_{σ∨τ}(X) = Img_σ(X) ∪ Img_τ(X)`` when ``σ`` and
+    ``τ`` write the same variables (``∃`` distributes over ``∨``, same rename), so a
+    cluster's events cost one image per write set instead of one per event."""
+    groups: dict[frozenset[str], list[_Step]] = {}
+    for s in steps:
+        groups.setdefault(s.writes, []).append(s)
+    out = []
+    for group in groups.values():
+        if len(group) == 1:
+            out.append(group[0])
+            continue
+        rel = ctx.false
+        for s in group:
+            rel |= s.relation
+        first = group[0]
+        support = frozenset().union(*(s.support for s in group))
+        out.append(_Step("|".join(s.event for s in group), rel, first.qbits, first.ident, first.rbits,
+                         first.forward, first.writes, support))
+    return out
+
+
 def _check_method(method: str) -> None:
     if method not in METHODS:
         raise InputError(f"unknown fixpoint method {method!r} (use one of {', '.join(METHODS)})", value=method)
@@ -216,8 +238,13 @@ def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage:
     """Fire the deepest dirty cluster to its local fixpoint; re-dirty the clusters that
     do not commute with it; when none is dirty, every event whose last operand is not
     the current set dirties its cluster again (exactness where ``inside`` couples)."""
-    position = {id(s): i for i, s in enumerate(steps)}
-    clusters = [[position[id(s)] for s in c] for c in _clusters(ctx, steps)]
+    merged: list[_Step] = []
+    clusters = []
+    for c in _clusters(ctx, steps):
+        first = len(merged)
+        merged.extend(_merge_by_writes(ctx, c))
+        clusters.append(list(range(first, len(merged))))
+    steps = merged
     n = len(clusters)
     writes = [frozenset().union(*(steps[i].writes for i in c)) for c in clusters]
     support = [frozenset().union(*(steps[i].support for i in c)) for c in clusters]
