@@ -1,10 +1,11 @@
 """Exact model counting in C: CUDD's arbitrary-precision ``Cudd_ApaCountMinterm``.
 
-``|{a ∈ {0,1}^care : u(a)}|`` for a BDD ``u`` whose support lies in ``care`` equals
-``ApaCount(u, n) / 2^(n − |care|)`` for the number ``n`` of variables in the manager:
-CUDD counts the minterms over ``n`` variables (each node's count is the mean of its
-children's, in base-2^32 digits), and the variables outside ``care`` contribute the
-exact factor ``2^(n − |care|)``.  The count is an integer computed without rounding.
+``|{a ∈ {0,1}^care : u(a)}|`` for a BDD ``u`` whose support lies in ``care`` is
+``ApaCount(u, |care|)``: CUDD counts the minterms of ``u`` regarded as a function of
+``n ≥ |support(u)|`` variables, starting from ``2^n`` at the constant one and halving
+at each node on the way up (``count(f) = (count(f_hi) + count(f_lo)) / 2``, the
+complement edge as ``2^n − count``), in base-2^32 digits: every intermediate value is an
+integer, so the result is exact.
 
 ``dd.cudd`` (0.6) wraps ``Cudd_CountMinterm`` only, whose ``double`` is exact below
 2^53 and overflows beyond 2^1024; it does not expose the manager or node pointers
@@ -78,9 +79,8 @@ def _validated(bdd: Any, module: Any, reference) -> Callable[[Any, int], int] | 
             return 0
         if u == bdd.true:
             return 1 << n_care
-        n_all = len(bdd.vars)
         digits = ctypes.c_int()
-        number = count_fn(manager, node_of(u), n_all, ctypes.byref(digits))
+        number = count_fn(manager, node_of(u), n_care, ctypes.byref(digits))
         if not number:
             raise MemoryError("CUDD could not allocate an arbitrary-precision count")
         try:
@@ -89,7 +89,7 @@ def _validated(bdd: Any, module: Any, reference) -> Callable[[Any, int], int] | 
                 value = (value << 32) | number[i]
         finally:
             free_fn(number)
-        return value >> (n_all - n_care)
+        return value
 
     # validate the layout on a probe: a plain node and its complement, pointers and counts
     care = sorted(bdd.vars, key=bdd.level_of_var)[:3]

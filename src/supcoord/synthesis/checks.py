@@ -69,8 +69,10 @@ def is_controllable(G: SymbolicGenerator, K: SymbolicGenerator, *, method: str =
     """Whether ``L(K)`` is controllable with respect to ``L(G)`` and ``Σu``."""
     P = _observer_product(G, K)
     bad = G.ctx.false
-    for u in G.uncontrollable:
-        bad |= G.enabled(u) & ~P.enabled(u)  # δ_G(g, u)! ∧ ¬δ_P((g, k), u)!
+    unc = G.uncontrollable
+    en_g, en_p = G.enabled_sets(unc), P.enabled_sets(unc)
+    for u in unc:
+        bad |= en_g[u] & ~en_p[u]  # δ_G(g, u)! ∧ ¬δ_P((g, k), u)!
     return reachable(P, method=method) & bad == G.ctx.false
 
 

@@ -153,8 +153,8 @@ def clusters(G: SymbolicGenerator) -> list[_Cluster]:
 def uncontrollable_enabled(G: SymbolicGenerator) -> BDD:
     """``{q ∈ Q : U(q) ≠ ∅} = ⋁_u Pre_u(Q)``."""
     out = G.ctx.false
-    for u in G.uncontrollable:
-        out |= G.enabled(u)
+    for en in G.enabled_sets(G.uncontrollable).values():
+        out |= en
     return out
 
 

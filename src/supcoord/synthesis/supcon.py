@@ -126,8 +126,10 @@ def product(G: SymbolicGenerator, E: SymbolicGenerator, name: str | None = None)
 def _bad_states(G: SymbolicGenerator, P: SymbolicGenerator) -> BDD:
     """``B0 = ⋃_{u∈Σu} En_G(u) \\ En_P(u)``."""
     b0 = P.ctx.false
-    for u in G.uncontrollable:
-        b0 |= G.enabled(u) & ~P.enabled(u)  # ∃ x'. R_G,u  ∧ ¬∃ x'. R_P,u
+    unc = G.uncontrollable
+    en_g, en_p = G.enabled_sets(unc), P.enabled_sets(unc)
+    for u in unc:
+        b0 |= en_g[u] & ~en_p[u]  # ∃ x'. R_G,u  ∧ ¬∃ x'. R_P,u
     return b0 & P.invariant
 
 
