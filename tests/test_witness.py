@@ -73,6 +73,8 @@ def test_witness_replays_and_is_bounded_by_rank(inst, semantics, env_choice):
     assert g.run(w, start=source) in set(target)
     check_path(g, naive, semantics, source, w)
     assert len(w) <= k
+    if semantics == "standard":  # the controller forces every step: no waiting for the environment
+        assert all(g.events[e].controllable for e in w)
     # exact when no state on the way has an uncontrollable event
     visited = list(itertools.accumulate(w, lambda q, e: g.successor(q, e), initial=source))[:-1]
     if not any(has_u(g, q) for q in visited):
@@ -162,3 +164,16 @@ def test_standard_witness_takes_the_lowest_ranked_controllable_successor():
     # preemptive: u is pending at 0, so the environment moves
     pre = forcible_layers(G, G.marked)
     assert witness(G, pre) == ["u", "c"]
+
+
+def test_standard_witness_never_waits_for_the_environment():
+    """0 -c-> 1 -c-> 2 (target) and 0 -u-> 2: rank(0) = 2 under standard semantics; the
+    uncontrollable shortcut u reaches the target in one event, but the controller cannot
+    make it happen: the witness forces c, c (and u is still one of the forcible paths)."""
+    ev = [Event("c", True), Event("u", False)]
+    g = Generator(3, ev, [(0, "c", 1), (1, "c", 2), (0, "u", 2)], 0, [2])
+    G = from_explicit(Context(), g)
+    lay = forcible_layers(G, G.marked, semantics="standard")
+    assert lay.rank(0) == 2
+    assert witness(G, lay) == ["c", "c"] == witness_naive(g, forcible_layers_naive(g, [2], "standard"), 0, "standard")
+    assert list(forcing_paths(G, lay)) == [["u"], ["c", "c"]]

@@ -5,7 +5,9 @@ Given the layers ``L(0) = T, L(1), …`` of :func:`~.forcibility.forcible_layers
 - a **witness** from ``q ∈ L(k)`` is read forward one state at a time: where the
   controller acts (preemptive semantics: ``U(q) = ∅``; standard semantics: always) it
   forces the controllable event whose successor has the least rank (ties: the smallest
-  event name); where the environment acts (preemptive, ``U(q) ≠ ∅``) the witness follows
+  event name; under standard semantics the environment could move first, but the
+  witness never waits for an uncontrollable event, so every event of a standard
+  witness is controllable); where the environment acts (preemptive, ``U(q) ≠ ∅``) the witness follows
   one of its events (``env_choice``: the smallest name by default).  Every step goes from
   ``L(k)`` into ``W(k-1)``, so the string reaches ``T`` after at most ``rank(q)`` events,
   with equality when no state on the way has an uncontrollable event: there
@@ -110,9 +112,12 @@ def witness(G: SymbolicGenerator, layers: Layers, source: Any = None, *, env_cho
             else:
                 e, q, k = min(steps, key=lambda s: (-s[2], event_key(s[0])))
         else:
-            if not steps:
+            # the controller forces a controllable event (under standard semantics the
+            # environment's events are possible too, but a witness does not wait for them)
+            forced = [s for s in steps if G.events[s[0]].event.controllable]
+            if not forced:
                 raise ModelError(f"no controllable step out of layer {k}: layers from another generator?", value=k)
-            e, q, k = min(steps, key=lambda s: (s[2], event_key(s[0])))  # lowest rank, then name
+            e, q, k = min(forced, key=lambda s: (s[2], event_key(s[0])))  # lowest rank, then name
         path.append(e)
     return path
 
@@ -218,7 +223,7 @@ def witness_naive(
         if env_acts:
             pick = {"smallest": steps[0], "largest": steps[-1]}.get(env_choice) or min(steps, key=lambda s: (-s[2], event_key(s[0])))
         else:
-            pick = min(steps, key=lambda s: (s[2], event_key(s[0])))
+            pick = min((s for s in steps if g.events[s[0]].controllable), key=lambda s: (s[2], event_key(s[0])))
         e, q, k = pick
         path.append(e)
     return path
