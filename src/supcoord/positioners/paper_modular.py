@@ -54,13 +54,14 @@ import time
 from math import prod
 
 from ..des.symbolic import SymbolicGenerator
+from ..errors import InputError
 from ..symbolic.context import Context
 from ..synthesis import CCCResult, SupconResult, ccc, forcible_layers, supcon
 from ..synthesis.supcon import product
 from ..des import symbolic_ops as SO
 from .paper import PaperInstance, plant_symbolic, spec_symbolic
 
-__all__ = ["literal_components", "supcon_modular", "ccc_modular", "literal_modular"]
+__all__ = ["literal_components", "supcon_modular", "ccc_modular", "Templates", "transfer", "literal_modular"]
 
 
 def literal_components(inst: PaperInstance, ctx: Context | None = None):
@@ -68,6 +69,8 @@ def literal_components(inst: PaperInstance, ctx: Context | None = None):
     ctx = ctx or Context()
     out = []
     for i in range(inst.size):
+        if i % 64 == 63:
+            _check_time(ctx, "literal build", positioner=i + 1)
         num = inst.number(i)
         g = plant_symbolic(ctx, num, inst.steps, inst.start[i], inst.target[i], inst.priority_kind(i))
         s = spec_symbolic(ctx, num, inst.steps, inst.start[i], inst.target[i])
@@ -125,46 +128,108 @@ def ccc_modular(V: SymbolicGenerator, parts: list[SupconResult], semantics: str 
 # -- the literal model at scale: one small computation per distinct positioner ----------
 
 
-def _template(steps: int, start: int, target: int, prio: str, semantics: str) -> dict:
-    """``supcon`` and forcibility of one positioner in a context of its own (variables
-    ``pos1, lvl1, cnt1``): positioners with equal ``(n, start, target, priority event)`` are
-    equal up to renaming, and both algorithms commute with renaming."""
-    ctx = Context()
-    g = plant_symbolic(ctx, 1, steps, start, target, prio)
-    e = SO.sync(SO.allevents(ctx, g), spec_symbolic(ctx, 1, steps, start, target), name="ALLxS1")
-    r = supcon(g, e, name="V1")
-    V = r.supervisor
-    lay = forcible_layers(V, V.marked, semantics=semantics) if V.init != ctx.false else None
-    return {"ctx": ctx, "z": V.invariant, "stats": r.stats,
-            "forcible": lay is not None and lay.rank(V.init) is not None, "layers": lay.sizes() if lay else []}
+class Templates:
+    """``supcon`` and forcibility of each distinct literal positioner, computed once.
+
+    Positioners with equal ``(steps, start, target, priority event)`` are equal up to
+    renaming their variables, and ``supcon`` and the forcibility fixpoint commute with
+    renaming; so each distinct key is solved once over the variables ``pos1, lvl1,
+    cnt1`` of **one** small shared context (a CUDD manager costs tens of milliseconds to
+    create; building hundreds of them dominated the run time) and its winning set is
+    transferred to positioner ``i``'s bits by :func:`transfer`.  The shared context gets
+    the caller's budget and progress callback, so ``--timeout``/``--max-nodes`` apply.
+    """
+
+    def __init__(self, steps: int, semantics: str = "preemptive", *, budget=None, progress=None, backend: str = "auto"):
+        self.steps, self.semantics = steps, semantics
+        self.ctx = Context(backend, budget=budget, progress=progress)
+        for name, size in (("pos1", steps), ("lvl1", 3), ("cnt1", steps)):
+            self.ctx.add_variable(name, size)
+        self.cache: dict[tuple[int, int, str], dict] = {}
+
+    def __len__(self) -> int:
+        return len(self.cache)
+
+    def get(self, start: int, target: int, prio: str) -> dict:
+        """``{"z", "stats", "forcible", "layers", "rank"}`` of the positioner ``(start,
+        target, prio)``: its supervisor's state set (over ``pos1, lvl1, cnt1``), its exact
+        statistics, and whether its initial state is forcible in its own supervisor."""
+        key = (start, target, prio)
+        out = self.cache.get(key)
+        if out is None:
+            out = self.cache[key] = self._solve(*key)
+        return out
+
+    def _solve(self, start: int, target: int, prio: str) -> dict:
+        ctx, n = self.ctx, self.steps
+        g = plant_symbolic(ctx, 1, n, start, target, prio, declare=False)
+        s = spec_symbolic(ctx, 1, n, start, target, declare=False)
+        e = SO.sync(SO.allevents(ctx, g), s, name="ALLxS1")
+        r = supcon(g, e, name="V1")
+        V = r.supervisor
+        if V.init == ctx.false:
+            return {"z": ctx.false, "stats": r.stats, "forcible": False, "layers": [], "rank": None}
+        lay = forcible_layers(V, V.marked, semantics=self.semantics)
+        rank = lay.rank(V.init)
+        return {"z": V.invariant, "stats": r.stats, "forcible": rank is not None, "layers": lay.sizes(), "rank": rank}
 
 
-def _transfer(u, target: Context, suffix: str, memo: dict) -> object:
-    """Rebuild the template BDD ``u`` (bits ``pos1_k``, …) in ``target`` with the bits of
-    positioner ``suffix`` (``pos{suffix}_k``): one ``ite`` per node, bottom-up."""
-    bdd = target.bdd
-    if u.var is None:
-        return target.true if u == u.bdd.true else target.false
-    neg = u.negated
-    r = ~u if neg else u
-    key = int(r)
-    out = memo.get(key)
-    if out is None:
-        name = r.var
-        base, bit = name.rsplit("_", 1)
-        mapped = f"{base[:3]}{suffix}_{bit}"
-        out = bdd.ite(bdd.var(mapped), _transfer(r.high, target, suffix, memo), _transfer(r.low, target, suffix, memo))
-        memo[key] = out
-    return ~out if neg else out
+def transfer(u, source: Context, target: Context, suffix: str, memo: dict | None = None):
+    """Rebuild ``u`` (a BDD of ``source`` over ``pos1, lvl1, cnt1``) in ``target`` over
+    ``pos{suffix}, lvl{suffix}, cnt{suffix}``: one ``ite`` per node, bottom-up, so it costs
+    ``O(|u|)`` whatever the size of ``target``.  Both contexts must order the bits of
+    one positioner alike (they do: each declares ``pos, lvl, cnt`` in that order)."""
+    bits = {}
+    for base in ("pos", "lvl", "cnt"):
+        sv, tv = source.vars[f"{base}1"], target.vars[f"{base}{suffix}"]
+        if sv.size != tv.size:
+            raise InputError(f"cannot transfer {base}1 (size {sv.size}) to {base}{suffix} (size {tv.size})",
+                             value=f"{base}{suffix}")
+        bits.update(zip(sv.bits, tv.bits))
+    bdd, memo = target.bdd, {} if memo is None else memo
+
+    def rebuild(f):
+        if f.var is None:
+            return target.true if f == f.bdd.true else target.false
+        neg = f.negated
+        r = ~f if neg else f
+        key = int(r)
+        out = memo.get(key)
+        if out is None:
+            out = bdd.ite(bdd.var(bits[r.var]), rebuild(r.high), rebuild(r.low))
+            memo[key] = out
+        return ~out if neg else out
+
+    return rebuild(u)
 
 
-def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: str = "preemptive"):
+def _check_time(ctx: Context, stage: str, **info) -> None:
+    """``ctx.check_budget`` when the time budget has run out (so it raises), else nothing:
+    the full check reads CUDD's statistics, which costs ~0.1 s in a manager with tens of
+    thousands of variables; node budgets are checked by the fixpoints and at stage ends."""
+    b = ctx.budget
+    if b.timeout is not None and b.elapsed() > b.timeout:
+        ctx.check_budget(stage, **info)
+
+
+def _certificate(i: int, block: dict) -> str:
+    if block["stats"]["states"] == 0:
+        return f"V{i + 1} = supcon(G{i + 1}, allevents(G{i + 1}) || S{i + 1}) is empty, hence V is empty (Theorem 1)"
+    return (f"P{i + 1}'s initial state is not forcible in its own supervisor V{i + 1} (forcible layers "
+            f"{block['layers']}), hence not in V (Theorem 2: W(V) ⊆ ∏ W(V_i))")
+
+
+def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: str = "preemptive", *,
+                    full: bool = False, templates: Templates | None = None):
     """``(G, E, SupconResult, CCCResult)`` of the literal reading by Theorems 1 and 2,
-    computing each distinct positioner once (``N`` up to thousands in seconds).
+    computing each distinct positioner once (``N`` = thousands in seconds).
 
-    The supervisor equals ``supcon(G, E)`` (Theorem 1; tests compare with the generic
-    algorithm); the CCC verdict is exact when negative (Theorem 2) and otherwise falls
-    back to the generic :func:`ccc` on the product.
+    The supervisor is the generator the generic :func:`supcon` returns (Theorem 1;
+    ``tests/test_paper.py`` compares the two), with exact statistics from the
+    components' (``|V| = ∏ |V_i|``, ``|δ_V| = Σ_i |δ_{V_i}| ∏_{j≠i} |V_j|``).  The CCC
+    verdict is exact when negative (Theorem 2; ``ccc.stats["certificate"]`` names the
+    positioner) and otherwise comes from the generic :func:`ccc` on the product (``full``
+    as there).  ``ctx.check_budget`` is called while the components are transferred.
     """
     t0 = time.perf_counter()
     ctx = ctx or Context()
@@ -172,36 +237,40 @@ def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: 
     G = SO.sync(*[g for g, _ in comps], name="G")
     E = SO.sync(*[e for _, e in comps], name="ALLxS")
     t1 = time.perf_counter()
-    cache: dict[tuple, dict] = {}
-    blocks = []
-    for i in range(inst.size):
-        key = (inst.steps, inst.start[i], inst.target[i], inst.priority_kind(i))
-        if key not in cache:
-            cache[key] = _template(*key, semantics)
-        blocks.append(cache[key])
+    ctx.check_budget("literal build", positioners=inst.size)
+    tpl = templates or Templates(inst.steps, semantics, budget=ctx.budget, progress=ctx.progress, backend=ctx.backend)
+    if tpl.steps != inst.steps or tpl.semantics != semantics:
+        raise InputError(f"templates for steps={tpl.steps}, {tpl.semantics} used on steps={inst.steps}, {semantics}",
+                         value=(tpl.steps, tpl.semantics))
+    blocks = [tpl.get(inst.start[i], inst.target[i], inst.priority_kind(i)) for i in range(inst.size)]
+    t2 = time.perf_counter()
     z = ctx.true
     for i in reversed(range(inst.size)):  # bottom-up: each conjunction costs the new block only
-        z = _transfer(blocks[i]["z"], ctx, str(inst.number(i)), {}) & z
+        z = transfer(blocks[i]["z"], tpl.ctx, ctx, str(inst.number(i))) & z
+        if i % 64 == 0:
+            _check_time(ctx, "literal transfer", positioner=i + 1)
+    ctx.check_budget("literal transfer", positioners=inst.size, set_nodes=ctx.node_count(z))
     P = product(G, E, "V")
-    V = P.restrict(z, "V")
     states = [b["stats"]["states"] for b in blocks]
     total = prod(states)
+    V = P.restrict(z if total else ctx.false, "V")
     stats = {
         "states": total,
         "transitions": sum(b["stats"]["transitions"] * (total // s) for b, s in zip(blocks, states)) if total else 0,
         "marked": prod(b["stats"]["marked"] for b in blocks) if total else 0,
-        "bdd_nodes": V.node_count(), "set_nodes": ctx.node_count(z), "iterations": max(b["stats"]["iterations"] for b in blocks),
-        "distinct_components": len(cache), "method": "modular", "build_seconds": t1 - t0,
-        "seconds": time.perf_counter() - t1,
+        "bdd_nodes": V.node_count(), "set_nodes": ctx.node_count(V.invariant),
+        "iterations": max(b["stats"]["iterations"] for b in blocks),
+        "distinct_components": len(tpl), "method": "modular",
+        "build_seconds": t1 - t0, "template_seconds": t2 - t1, "seconds": time.perf_counter() - t1,
     }
-    res = SupconResult(V if total else P.restrict(ctx.false, "V"), stats)
-    t2 = time.perf_counter()
+    res = SupconResult(V, stats)
+    t3 = time.perf_counter()
     bad = next((i for i, b in enumerate(blocks) if not b["forcible"]), None)
     if bad is not None:
-        c = CCCResult(False, [], None, [], {
-            "certificate": f"P{bad + 1}'s initial state is not forcible in its own supervisor "
-                           f"(layers {blocks[bad]['layers']}), hence not in V (W(V) ⊆ ∏ W(V_i))",
-            "seconds": time.perf_counter() - t2})
+        c = CCCResult(False, [], None, [], {"certificate": _certificate(bad, blocks[bad]), "decided_by": "theorem 2",
+                                            "positioner": bad + 1, "component_layers": blocks[bad]["layers"],
+                                            "seconds": time.perf_counter() - t3})
     else:
-        c = ccc(res.supervisor, semantics)
+        c = ccc(V, semantics, full=full)
+        c.stats["decided_by"] = "product"
     return G, E, res, c
