@@ -254,6 +254,10 @@ def test_ccc_early_stop_and_bfa_by_component_states():
     assert (from_mid.rank, from_mid.witness) == (2, ["c0", "c1"])
     dag = bfa(P, [{"k0": 1}, {"k1": 0}], {"k0": 2, "k1": 2})
     assert [P.count_states(x) for x in dag.layers] == [1, 2, 2, 1]
+    by_tuple = bfa(P, (1, 0), (2, 2))  # component states, in P.variables order
+    assert by_tuple.layers == dag.layers and by_tuple.rank((1, 0)) == 3
+    with pytest.raises(InputError):
+        bfa(P, (1,), (2, 2))
     assert dag.rank({"k0": 1, "k1": 0}) == 3 and dag.rank({"k0": 0, "k1": 0}) is None
 
 

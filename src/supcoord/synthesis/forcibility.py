@@ -243,8 +243,11 @@ def forcible_layers(
 
 def as_states(G: SymbolicGenerator, x: Any) -> BDD:
     """A set of states of ``G`` from a BDD, a ``{variable: value}`` dict, a list of
-    dicts (one per component of a product: merged), a state number (generators with
-    one variable), or ``None`` for the initial state.  Conjoined with ``G.invariant``.
+    dicts (one per component of a product: merged), a tuple of component states (one
+    value per variable, in ``G.variables`` order: for a product of explicit components
+    encoded by :func:`~supcoord.des.symbolic.from_explicit`, their state numbers), a
+    state number (generators with one variable), or ``None`` for the initial state.
+    Conjoined with ``G.invariant``.
     """
     ctx = G.ctx
     if x is None:
@@ -261,11 +264,17 @@ def as_states(G: SymbolicGenerator, x: Any) -> BDD:
         if not G.variables and x == 0:
             return G.invariant
         raise InputError(f"state number {x} needs a one-variable generator; {G.name!r} has {len(G.variables)}", value=x)
-    if isinstance(x, (list, tuple)) and all(isinstance(p, Mapping) for p in x):
+    if isinstance(x, (list, tuple)) and x and all(isinstance(p, Mapping) for p in x):
         merged: dict[str, int] = {}
         for part in x:
             merged.update(part)
         return G.state_of(merged)
+    if isinstance(x, tuple) and all(isinstance(p, int) and not isinstance(p, bool) for p in x):
+        if len(x) != len(G.variables):
+            raise InputError(
+                f"a state of {G.name!r} as a tuple needs one value per variable {G.variables}, got {x!r}", value=x
+            )
+        return G.state_of(dict(zip(G.variables, x)))
     raise InputError(f"cannot read a state of {G.name!r} from {x!r}", value=x)
 
 
