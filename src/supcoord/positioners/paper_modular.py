@@ -220,7 +220,7 @@ def _certificate(i: int, block: dict) -> str:
 
 
 def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: str = "preemptive", *,
-                    full: bool = False, templates: Templates | None = None):
+                    full: bool = False, templates: Templates | None = None, components: list | None = None):
     """``(G, E, SupconResult, CCCResult)`` of the literal reading by Theorems 1 and 2,
     computing each distinct positioner once (``N`` = thousands in seconds).
 
@@ -230,15 +230,17 @@ def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: 
     verdict is exact when negative (Theorem 2; ``ccc.stats["certificate"]`` names the
     positioner) and otherwise comes from the generic :func:`ccc` on the product (``full``
     as there).  ``ctx.check_budget`` is called while the components are transferred.
+    ``components`` (from :func:`literal_components` in ``ctx``) reuses built ones, so a
+    test can run the generic algorithms on the very same ``G`` and ``E``.
     """
     t0 = time.perf_counter()
     ctx = ctx or Context()
-    comps = literal_components(inst, ctx)
+    comps = literal_components(inst, ctx) if components is None else components
     G = SO.sync(*[g for g, _ in comps], name="G")
     E = SO.sync(*[e for _, e in comps], name="ALLxS")
     t1 = time.perf_counter()
     ctx.check_budget("literal build", positioners=inst.size)
-    tpl = templates or Templates(inst.steps, semantics, budget=ctx.budget, progress=ctx.progress, backend=ctx.backend)
+    tpl = templates if templates is not None else Templates(inst.steps, semantics, budget=ctx.budget, progress=ctx.progress, backend=ctx.backend)
     if tpl.steps != inst.steps or tpl.semantics != semantics:
         raise InputError(f"templates for steps={tpl.steps}, {tpl.semantics} used on steps={inst.steps}, {semantics}",
                          value=(tpl.steps, tpl.semantics))
