@@ -22,6 +22,7 @@ __all__ = [
     "faudes_parallel",
     "faudes_accessible",
     "faudes_coaccessible",
+    "faudes_trim",
     "faudes_is_controllable",
     "faudes_is_nonblocking",
 ]
@@ -102,6 +103,13 @@ def faudes_coaccessible(g: Generator) -> set[int]:
     """The states of ``g`` that libFAUDES ``Coaccessible`` keeps (as ``g``'s numbers)."""
     s = to_faudes(g)
     faudes.Coaccessible(s)
+    return _kept(s)
+
+
+def faudes_trim(g: Generator) -> set[int]:
+    """The states of ``g`` that libFAUDES ``Trim`` keeps (as ``g``'s numbers)."""
+    s = to_faudes(g)
+    faudes.Trim(s)
     return _kept(s)
 
 

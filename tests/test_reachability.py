@@ -6,12 +6,13 @@ import itertools
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from oracle import faudes_accessible, faudes_coaccessible
+from oracle import faudes_accessible, faudes_coaccessible, faudes_parallel, faudes_trim
 from strategies import alphabets, generators
 
 from supcoord.des import symbolic_ops as S
 from supcoord.des.generator import Event, Generator
-from supcoord.des.symbolic import from_explicit
+from supcoord.des import explicit_ops as X
+from supcoord.des.symbolic import from_explicit, to_explicit
 from supcoord.errors import InputError
 from supcoord.symbolic import Context
 from supcoord.synthesis import (
@@ -21,6 +22,7 @@ from supcoord.synthesis import (
     event_clusters,
     reachable,
     reachable_naive,
+    trim,
 )
 
 
@@ -141,3 +143,29 @@ def test_unknown_method_is_refused():
         assert exc.value == "dfs"
     else:
         pytest.fail("no InputError")
+
+
+@st.composite
+def several_components(draw):
+    alphabet = draw(alphabets(min_size=3))
+    k = draw(st.integers(2, 4))
+    return [draw(generators(alphabet, 4, f"G{i}")) for i in range(k)]
+
+
+@given(several_components(), st.sampled_from(METHODS))
+def test_products_agree_with_libfaudes(gens, method):
+    """On the full product of 2-4 random components (every state tuple, so libFAUDES
+    sees unreachable and blocking states too): symbolic sync == libFAUDES Parallel,
+    reachable == Accessible, coreachable == Coaccessible, trim == Trim."""
+    full, tuples = full_product(gens)
+    ctx = Context()
+    sgs = [from_explicit(ctx, g) for g in gens]
+    P = S.sync(*sgs)
+    assert to_explicit(P).same_as(faudes_parallel(*gens)) and X.sync(*gens).same_as(faudes_parallel(*gens))
+    assert decode(ctx, sgs, tuples, reachable(P, method=method)) == faudes_accessible(full)
+    assert decode(ctx, sgs, tuples, coreachable(P, method=method)) == faudes_coaccessible(full)
+    kept = faudes_trim(full)
+    T = trim(P, method=method)
+    assert decode(ctx, sgs, tuples, T.invariant) == kept
+    assert to_explicit(T).same_as(X.trim(X.sync(*gens)))
+    assert (T.init == ctx.false) == (not kept)

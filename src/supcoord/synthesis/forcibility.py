@@ -264,7 +264,7 @@ def as_states(G: SymbolicGenerator, x: Any) -> BDD:
         if not G.variables and x == 0:
             return G.invariant
         raise InputError(f"state number {x} needs a one-variable generator; {G.name!r} has {len(G.variables)}", value=x)
-    if isinstance(x, (list, tuple)) and x and all(isinstance(p, Mapping) for p in x):
+    if isinstance(x, (list, tuple)) and all(isinstance(p, Mapping) for p in x):
         merged: dict[str, int] = {}
         for part in x:
             merged.update(part)

@@ -56,6 +56,7 @@ __all__ = [
     "reachable_naive",
     "coreachable_naive",
     "event_clusters",
+    "trim",
 ]
 
 METHODS = ("bfs", "chaining", "saturation")
@@ -187,6 +188,15 @@ def coreachable(
     inside = G.invariant if within is None else within & G.invariant
     goal = (G.marked if target is None else target) & inside
     return _FIXPOINTS[method](G.ctx, goal, inside, _steps(G, events, False), "coreachable")
+
+
+def trim(G: SymbolicGenerator, name: str | None = None, *, method: str = DEFAULT_METHOD) -> SymbolicGenerator:
+    """The trim part of ``G``: ``G`` restricted to ``Reach(q0) ∩ CoReach(Qm)`` (TCT ``trim``,
+    libFAUDES ``Trim``).  The set is closed under the paths between its states (a state
+    on a path from ``q0`` to an accessible and coaccessible state is both), so one
+    intersection suffices; the result has no initial state when ``q0`` is blocking."""
+    r = reachable(G, method=method)
+    return G.restrict(r & coreachable(G, within=r, method=method), name)
 
 
 # -- the three schedules -------------------------------------------------------
