@@ -112,3 +112,26 @@ def test_force_cli_random_payloads(tmp_path, capsys):
             assert got["rank"] == rank_naive(naive, 0)
             assert got["forcible"] == (got["rank"] is not None)
             assert got["witness"] == (witness_naive(g, naive, 0, semantics) or [])
+
+
+def test_force_target_by_libfaudes_index_in_a_file_with_gaps(tmp_path, capsys):
+    """libFAUDES keeps index gaps after deleting states: ``--target 5`` is the state
+    with index 5 (the third one in the file), not the fifth state."""
+    f = faudes.System()
+    a = f.InsControllableEvent("a")
+    states = [f.InsState() for _ in range(6)]  # indices 1..6
+    f.DelState(states[2])
+    f.DelState(states[3])  # left: 1, 2, 5, 6
+    for x, y in [(1, 2), (2, 5), (5, 6)]:
+        f.SetTransition(x, a, y)
+    f.SetInitState(1)
+    f.SetMarkedState(6)
+    path = tmp_path / "gaps.gen"
+    f.Write(str(path))
+    assert "<Consecutive>" in path.read_text() or " 5 " in path.read_text()
+    code, out, _ = run_cli(capsys, path, "--json", "--target", "5")
+    assert code == 0 and json.loads(out)["witness"] == ["a", "a"]
+    code, out, _ = run_cli(capsys, path, "--json", "--target", "6")
+    assert code == 0 and json.loads(out)["rank"] == 3
+    code, _, err = run_cli(capsys, path, "--json", "--target", "3")  # deleted: a user error
+    assert code == 2 and "'3'" in err

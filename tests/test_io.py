@@ -349,3 +349,38 @@ def test_dispatch_by_suffix(tmp_path):
         assert info.value.where == os.fspath(tmp_path / bad)
     with pytest.raises(FormatError):
         read_generator(tmp_path / "g.dot")
+
+
+@ORACLE
+@given(alphabets().flatmap(lambda a: generators(a, 7)), st.data(), st.booleans())
+def test_gen_faudes_files_with_gaps_and_named_states(tmp_path_factory, g, data, xml):
+    """What libFAUDES writes once states were deleted (index gaps, ``name#index``) or
+    some are named: read exactly as libFAUDES reads it back (states, names, events,
+    controllability, transitions, initial and marked states)."""
+    s = faudes.System()
+    for e in g.alphabet:
+        (s.InsControllableEvent if e.controllable else s.InsEvent)(e.name)
+    idx = [s.InsState() for _ in range(g.n_states)]
+    extra = [s.InsState() for _ in range(data.draw(st.integers(0, 3)))]
+    for a, e, b in g.transitions():
+        s.SetTransition(idx[a], s.EventIndex(e), idx[b])
+    s.SetInitState(idx[g.init])
+    for q in g.marked:
+        s.SetMarkedState(idx[q])
+    for q in data.draw(st.lists(st.sampled_from(idx + extra), unique=True, max_size=3)):
+        if q != idx[g.init]:
+            s.DelState(q)
+    for q, name in zip(idx, data.draw(st.lists(st.sampled_from(["s0", "idle", "x<y", "q'r", "b1"]), unique=True))):
+        if s.ExistsState(q):
+            s.StateName(q, name)
+    path = tmp_path_factory.mktemp("gen") / "gaps.gen"
+    (s.XWrite if xml else s.Write)(str(path))
+    ours = read_gen(path)
+    states, sigma, sigma_c, delta, init, marked = faudes.System(str(path)).ToLists()
+    label = [str(x) for x in states]
+    assert ours.n_states == len(states) and (ours.state_names or [str(i + 1) for i in range(len(states))]) == label
+    assert set(ours.events) == set(sigma) and ours.controllable == set(sigma_c)
+    assert sorted((label[a], e, label[b]) for a, e, b in ours.transitions()) == sorted(
+        (str(a), e, str(b)) for a, e, b in delta)
+    assert [label[ours.init]] == [str(x) for x in init]
+    assert {label[q] for q in ours.marked} == {str(x) for x in marked}

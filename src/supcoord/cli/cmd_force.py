@@ -8,8 +8,9 @@ user error (exit 2); ``--max-nodes``/``--timeout`` running out gives exit 3.
 
 ``STATE`` is a state name of the file, else a state number: for ``.gen`` files the
 libFAUDES index (states numbered 1, 2, … in the order of the file's ``<States>``, as
-libFAUDES writes them), for ``.json`` files the JSON state number (from 0).  Names are
-matched first.
+libFAUDES writes them; where the file's indices have gaps, as after libFAUDES deleted
+states, only the indices written in the file), for ``.json`` files the JSON state
+number (from 0).  Names are matched first.
 """
 
 from __future__ import annotations
@@ -58,8 +59,13 @@ def resolve_state(g, text: str, path: str) -> int:
         number = int(text)
     except ValueError:
         number = None
-    if number is not None:
-        q = number - 1 if Path(path).suffix.lower() == ".gen" else number
+    gen = Path(path).suffix.lower() == ".gen"
+    # in a .gen file whose indices have gaps (unnamed states are then named by their
+    # index, see supcoord.des.io_gen), a number that is no state's index is no state
+    gaps = gen and g.state_names is not None and any(
+        n.isdigit() and int(n) != i + 1 for i, n in enumerate(g.state_names))
+    if number is not None and not gaps:
+        q = number - 1 if gen else number
         if 0 <= q < g.n_states:
             return q
     raise InputError(f"unknown state {text!r} in {path}", value=text, where="--target")

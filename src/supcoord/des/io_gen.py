@@ -22,8 +22,10 @@ flavour that ``faudes.Generator.XWrite()`` writes (``<StateSet>`` with
 ``<Transition x1= event= x2=/>``, ``<Event name=><Controllable/></Event>``) is read too.
 
 Mapping to :class:`~supcoord.des.generator.Generator`: states are numbered ``0…n-1``
-in the order they appear in the file; state names are kept (unnamed states are
-named by their libFAUDES index).  supcoord generators are deterministic, so two
+in the order they appear in the file; state names are kept, and unnamed states are
+named by their libFAUDES index as soon as some state is named or the indices are not
+``1…n`` in order (libFAUDES keeps the gaps that deleting states leaves, so ``5`` may
+be the third state).  supcoord generators are deterministic, so two
 initial states or two transitions on one event from one state raise
 :class:`~supcoord.errors.NondeterminismError`; a file without an initial state
 describes the empty language and reads as the empty generator (0 states, alphabet
@@ -525,7 +527,9 @@ class _Builder:
                     f"(line {old[1]}) and to {label(b)}",
                     value=(label(a), e, (label(old[0]), label(b))), where=where,
                 )
-        named = any(v is not None for v in self.names.values())
+        # unnamed states keep their libFAUDES index as a name when some state is named
+        # or the indices are not 1..n in order (a file written after deleting states)
+        named = any(v is not None for v in self.names.values()) or self.order != list(range(1, len(self.order) + 1))
         state_names = [self.names[q] or str(q) for q in self.order] if named else None
         return Generator(
             len(self.order), events, [(number[a], e, number[b]) for (a, e), (b, _) in seen.items()],
