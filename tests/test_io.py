@@ -384,3 +384,38 @@ def test_gen_faudes_files_with_gaps_and_named_states(tmp_path_factory, g, data, 
         (str(a), e, str(b)) for a, e, b in delta)
     assert [label[ours.init]] == [str(x) for x in init]
     assert {label[q] for q in ours.marked} == {str(x) for x in marked}
+
+
+_DOT_ID = r'"((?:[^"\\]|\\.)*)"'
+
+
+@settings(max_examples=60, deadline=None)
+@given(named_generators(), st.sampled_from(["G", 'we"ird\\name']))
+def test_dot_is_well_formed_and_complete(g, name):
+    """Every statement parses as a DOT node or edge with properly escaped quoted IDs;
+    one node per state with its label, one edge per (source, target, controllability)
+    carrying exactly the events of those transitions, dashed iff uncontrollable."""
+    import re
+
+    g = Generator(g.n_states, g.alphabet, g.transitions(), g.init, g.marked, name, g.state_names)
+    text = to_dot(g)
+    lines = text.strip().splitlines()
+    head = re.fullmatch(r"digraph " + _DOT_ID + r" \{", lines[0])
+    assert head and head.group(1).encode().decode("unicode_escape") == name and lines[-1] == "}"
+    unescape = lambda s: re.sub(r"\\(.)", r"\1", s)  # noqa: E731
+    nodes, edges = {}, {}
+    for line in lines[1:-1]:
+        node = re.fullmatch(r'  "(\d+)" \[label=' + _DOT_ID + r'(, shape=doublecircle)?\];', line)
+        edge = re.fullmatch(r'  "(\d+)" -> "(\d+)" \[label=' + _DOT_ID + r'(, style=dashed)?\];', line)
+        if node:
+            nodes[int(node.group(1))] = (unescape(node.group(2)), bool(node.group(3)))
+        elif edge:
+            key = (int(edge.group(1)), int(edge.group(2)), not edge.group(4))
+            edges[key] = sorted(unescape(edge.group(3)).split(", "))
+        else:
+            assert re.fullmatch(r"  (rankdir=LR|node \[.*\]|edge \[.*\]|__init \[.*\]|__init -> \"\d+\");", line), line
+    assert nodes == {q: (g.state_label(q), q in g.marked) for q in range(g.n_states)}
+    expected: dict = {}
+    for s, e, t in g.transitions():
+        expected.setdefault((s, t, g.events[e].controllable), []).append(e)
+    assert edges == {k: sorted(v) for k, v in expected.items()}
