@@ -199,3 +199,57 @@ def test_fuzz_parser_raises_only_user_errors(data):
         assert "\n" not in exc.one_line()
         return
     assert p.start.shape == p.target.shape == (p.n, p.kinematics.n_joints)
+
+
+# --- the "preset" shorthand and unknown fields ---------------------------------------------
+
+SDSS_SHORT = {
+    "preset": "sdss-v",
+    "layout": {"kind": "hex", "rings": 1},
+    "kinematics": {"alpha_steps": 12, "beta_steps": 7},
+    "start": [[1, 6]] * 7,
+    "target": [[1, 6]] * 7,
+}
+
+
+def test_preset_fills_in_what_the_file_leaves_out():
+    p = parse_problem(copy.deepcopy(SDSS_SHORT), "short.json")
+    kin = p.kinematics.to_json()
+    assert p.layout == {"kind": "hex", "rings": 1, "pitch": 22.4}
+    assert (kin["kind"], kin["alpha"], kin["beta"], kin["beta_range"]) == ("alpha-beta", 7.4, 15.0, [0.0, 180.0])
+    assert np.all(p.buffers == 2.0) and p.warnings == []
+    again = parse_problem(json.loads(json.dumps(p.to_json())))
+    assert again.to_json() == p.to_json() and again.extra["preset"] == "sdss-v"
+    # what the file gives wins over the preset
+    mine = _mutated(_mutated(SDSS_SHORT, ("collision",), {"buffer": 1.0}), ("layout", "pitch"), 30.0)
+    p = parse_problem(mine)
+    assert np.all(p.buffers == 1.0) and p.layout["pitch"] == 30.0 and p.kinematics.alpha == 7.4
+    moons = parse_problem(_mutated(_mutated(SDSS_SHORT, ("preset",), "MOONS"), ("layout", "pitch"), 30.0))
+    assert moons.kinematics.beta_range == (-180.0, 150.0) and moons.kinematics.beta == 17.0
+
+
+@pytest.mark.parametrize("path,value,exc,message", [
+    (("preset",), "sdss", InputError, "preset must be one of 'sdss-v', 'desi', 'moons', 'pfs', got 'sdss'"),
+    (("preset",), 3, InputError, "preset must be one of"),
+    (("preset",), "moons", FormatError, "layout.pitch is missing and preset 'moons' has no pitch"),
+    (("kinematics", "kind"), "rotary", InputError, "preset 'sdss-v' describes alpha-beta positioners"),
+    (("kinematics", "beta_steps"), _DELETE, FormatError, "kinematics.beta_steps is missing"),
+])
+def test_preset_errors_name_the_field(path, value, exc, message):
+    with pytest.raises(exc, match=message) as info:
+        parse_problem(_mutated(SDSS_SHORT, path, value), "short.json")
+    assert info.value.where == "short.json"
+
+
+def test_unknown_fields_are_warnings_naming_the_field():
+    data = _mutated(_mutated(ROTARY, ("prority",), [7, 6, 5, 4, 3, 2, 1]), ("kinematics", "arms"), 15.0)
+    data = _mutated(_mutated(data, ("_comment",), "ignored"), ("collision", "buffers"), 1.0)
+    p = parse_problem(data, "w.json")
+    assert p.priority == [1, 2, 3, 4, 5, 6, 7]  # the typo is not read ...
+    assert p.warnings == [  # ... but it is reported, one line each
+        "w.json: unknown field 'prority' ignored (known: layout, kinematics, collision, start, target, priority, "
+        "name, description, comment, preset, seed)",
+        "w.json: unknown field 'kinematics.arms' ignored (known: kind, arm, steps)",
+        "w.json: unknown field 'collision.buffers' ignored (known: buffer)",
+    ]
+    assert parse_problem(copy.deepcopy(ALPHA_BETA)).warnings == []

@@ -26,13 +26,15 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
 from .kinematics import AlphaBeta
-from .problem import Problem
-from .random_problems import random_problem
+
+if TYPE_CHECKING:  # problem.py reads PRESETS for the "preset" shorthand, so no import cycle at run time
+    from .problem import Problem
 
 __all__ = ["Preset", "PRESETS", "preset_kinematics", "preset_problem", "folded_position"]
 
@@ -93,11 +95,13 @@ def folded_position(kin: AlphaBeta, alpha_deg: float = 10.0, beta_deg: float = 1
 
 def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int = 36, beta_steps: int = 19,
                    pitch: float | None = None, buffer: float | None = None, start: str = "random",
-                   near: int | None = None, priority: str = "random") -> Problem:
+                   near: int | None = None, priority: str = "random") -> "Problem":
     """A random problem on a hex grid of ``rings`` rings of the preset instrument.
 
     ``start``: ``"random"`` or ``"folded"`` (every robot at :func:`folded_position`).
     """
+    from .random_problems import random_problem
+
     p = _preset(name)
     pitch = pitch if pitch is not None else p.pitch
     if pitch is None:
@@ -112,4 +116,4 @@ def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int
     else:
         raise InputError(f"start must be 'random' or 'folded', got {start!r}", value=start)
     return random_problem(layout, kin, p.buffer if buffer is None else buffer, seed, near=near,
-                          priority=priority, start=fixed, name=f"{p.name}-r{rings}-s{seed}")
+                          priority=priority, start=fixed, name=f"{p.name}-r{rings}-s{seed}", preset=p.name)

@@ -9,7 +9,16 @@ per positioner, each a collision-free configuration::
 
 Every user mistake raises :class:`~supcoord.errors.FormatError` (wrong type/shape) or
 :class:`~supcoord.errors.InputError` (bad value, colliding start/target) with
-``where`` = the file and a message naming the field and value.
+``where`` = the file and a message naming the field and value.  A field the format
+does not know (a typo such as ``"prority"``) is not an error but is reported in
+:attr:`Problem.warnings`, which the command line prints on standard error.
+
+An optional top-level ``"preset"`` (``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``;
+:mod:`.presets`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
+``kinematics.kind`` (``alpha-beta``), ``alpha``, ``beta``, ``beta_range``, and
+``collision.buffer``; values given in the file win.  The discretisation
+(``alpha_steps``, ``beta_steps``) is never implied, since it gives the positions their
+meaning.
 """
 
 from __future__ import annotations
@@ -26,10 +35,21 @@ from .collision import CollisionTables, colliding_pairs, neighbour_pairs
 from .kinematics import Kinematics, _is_int, kinematics_from_spec
 from .layout import _finite_number, _short, layout_from_spec
 
-__all__ = ["Problem", "load_problem", "parse_problem", "MAX_POSITIONERS"]
+__all__ = ["Problem", "load_problem", "parse_problem", "MAX_POSITIONERS", "KNOWN_FIELDS"]
 
 #: refuse problems bigger than this (a typo such as rings = 600 should not eat the memory)
 MAX_POSITIONERS = 20_000
+#: top-level fields kept as they are (descriptive, or the preset that filled the file in)
+EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
+#: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
+KNOWN_FIELDS = {
+    "": ("layout", "kinematics", "collision", "start", "target", "priority") + EXTRA_FIELDS,
+    "layout/hex": ("kind", "rings", "pitch"),
+    "layout/points": ("kind", "xy"),
+    "kinematics/rotary": ("kind", "arm", "steps"),
+    "kinematics/alpha-beta": ("kind", "alpha", "beta", "alpha_steps", "beta_steps", "beta_range"),
+    "collision": ("buffer",),
+}
 
 
 @dataclass(eq=False)
@@ -45,6 +65,7 @@ class Problem:
     priority: list[int]
     where: str | None = None
     extra: dict = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
     _tables: CollisionTables | None = field(default=None, repr=False)
     _pairs: np.ndarray | None = field(default=None, repr=False)
 
@@ -121,6 +142,7 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
     """Validate a PROBLEM.json object (already decoded) into a :class:`Problem`."""
     if not isinstance(data, dict):
         raise FormatError(f"a problem must be a JSON object, got {_short(data)}", value=data, where=where)
+    data = _apply_preset(data, where)
     for key in ("layout", "kinematics", "collision", "start", "target"):
         if key not in data:
             raise FormatError(f"required field '{key}' is missing", value=None, where=where)
@@ -138,8 +160,9 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
         layout = {"kind": "points", "xy": bases.tolist()}
     else:
         layout = {"kind": "hex", "rings": int(layout["rings"]), "pitch": float(layout["pitch"])}
-    extra = {k: v for k, v in data.items() if k in ("name", "description", "comment", "preset", "seed")}
-    problem = Problem(layout, kin, bases, buffers, start, target, priority, where, extra)
+    extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
+    problem = Problem(layout, kin, bases, buffers, start, target, priority, where, extra,
+                      _unknown_fields(data, where))
     if check_collisions:
         for name, conf in (("start", start), ("target", target)):
             hits = problem.collisions(conf)
@@ -191,3 +214,51 @@ def _priority(value: Any, n: int, where: str | None) -> list[int]:
         if not _is_int(v):
             raise FormatError(f"priority[{i}] must be an integer, got {_short(v)}", value=v, where=where)
     return [int(v) for v in value]
+
+
+def _apply_preset(data: dict, where: str | None) -> dict:
+    """``data`` with the preset's numbers filled in where the file leaves them out (module docstring)."""
+    if "preset" not in data:
+        return data
+    from .presets import PRESETS  # presets builds problems: imported here, not at module level
+
+    name = data["preset"]
+    if not isinstance(name, str) or name.lower() not in PRESETS:
+        raise InputError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {_short(name)}",
+                         value=name, where=where)
+    pre = PRESETS[name.lower()]
+    out = dict(data)
+    layout = out.get("layout")
+    if isinstance(layout, dict) and layout.get("kind") == "hex" and "pitch" not in layout:
+        if pre.pitch is None:
+            raise FormatError(f"layout.pitch is missing and preset {pre.name!r} has no pitch in our sources: "
+                              f"give one (mm)", value=None, where=where)
+        out["layout"] = dict(layout, pitch=pre.pitch)
+    kin = out.get("kinematics", {})
+    if isinstance(kin, dict):
+        if kin.get("kind", "alpha-beta") != "alpha-beta":
+            raise InputError(f"preset {pre.name!r} describes alpha-beta positioners, got kinematics.kind "
+                             f"{_short(kin.get('kind'))}", value=kin.get("kind"), where=where)
+        defaults = {"kind": "alpha-beta", "alpha": pre.alpha, "beta": pre.beta, "beta_range": list(pre.beta_range)}
+        out["kinematics"] = dict(defaults, **kin)
+    coll = out.get("collision", {})
+    if isinstance(coll, dict):
+        out["collision"] = dict({"buffer": pre.buffer}, **coll)
+    return out
+
+
+def _unknown_fields(data: dict, where: str | None) -> list[str]:
+    """One warning per field that :data:`KNOWN_FIELDS` does not list (``_comment`` keys excepted)."""
+    prefix = f"{where}: " if where else ""
+    objects = [("", data)]
+    for key in ("layout", "kinematics"):
+        objects.append((f"{key}/{data[key].get('kind')}", data[key]))
+    objects.append(("collision", data["collision"]))
+    out = []
+    for name, obj in objects:
+        known = KNOWN_FIELDS[name]
+        for key in obj:
+            if key not in known and not str(key).startswith("_"):
+                field_name = f"{name.split('/')[0]}.{key}" if name else str(key)
+                out.append(f"{prefix}unknown field {field_name!r} ignored (known: {', '.join(known)})")
+    return out

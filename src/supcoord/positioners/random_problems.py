@@ -73,14 +73,15 @@ def random_configuration(kin: Kinematics, bases: Any, buffers: Any, rng: np.rand
 
 def random_problem(layout: Any, kinematics: Any, buffer: float = 2.0, seed: int = 0, *,
                    near: int | None = None, priority: str = "random", attempts: int = 100,
-                   start: Any = None, name: str | None = None) -> Problem:
+                   start: Any = None, name: str | None = None, preset: str | None = None) -> Problem:
     """A random :class:`Problem` determined by ``seed``.
 
     ``layout``: a PROBLEM.json layout object (``{"kind": "hex", ...}``) or an ``(N, 2)``
     array of bases; ``kinematics``: a :class:`Kinematics` or its JSON object;
     ``priority``: ``"random"`` (a seeded permutation of ``1..N``) or ``"index"``
     (``1..N`` in layout order); ``start``: a fixed start ``(N, J)`` instead of a random
-    one (e.g. a folded lattice); ``near``: targets within ``near`` steps per joint.
+    one (e.g. a folded lattice); ``near``: targets within ``near`` steps per joint;
+    ``name``/``preset``: recorded in the problem (PROBLEM.json's ``name`` and ``preset``).
     """
     kin = kinematics if isinstance(kinematics, Kinematics) else kinematics_from_spec(kinematics)
     if isinstance(layout, dict):
@@ -119,4 +120,6 @@ def random_problem(layout: Any, kinematics: Any, buffer: float = 2.0, seed: int 
     }
     if name:
         data["name"] = name
+    if preset:
+        data["preset"] = preset
     return parse_problem(data, where=name or f"random problem (seed {seed})")
