@@ -22,7 +22,9 @@ from supcoord.positioners import (
     plan_from_moves,
     validate_plan,
 )
+from supcoord.positioners.layout import hex_grid
 from supcoord.positioners.plan import apply_moves
+from supcoord.positioners.validate import hex_bases_by_angle
 
 # the seed paper's picture: three rotary positioners in a row, arms long enough to meet
 THREE = {
@@ -132,6 +134,10 @@ def test_validator_catches_swept_collision_that_end_points_miss():
     assert not result["valid"] and result["collisions"] == 1
     assert "step 0->1: positioners 0 and 1 collide" in result["problems"][0]
     assert result["min_clearance"] < -1.9  # a's arm passes through b's base
+    (inc,) = result["incidents"]
+    # a's arm (length 10) lies across b's arm, the segment y = −5, x ∈ [5, 15], for θ ∈ [−45°, −30°]
+    assert inc["step"] == 0 and inc["positioners"] == [0, 1] and 1 / 3 - 0.02 <= inc["t"] <= 0.5 + 0.02
+    assert inc["distance"] < 0.1 and inc["required"] == 2.0
 
 
 def test_validator_catches_jumps_and_wrong_ends(three, three_moves):
@@ -226,3 +232,30 @@ def test_fuzz_plans_give_an_answer_or_a_format_error(data):
     result = validate_plan(problem, plan)
     assert isinstance(result["valid"], bool) and result["collisions"] >= 0 and 0 <= result["at_target"] <= 3
     assert not result["valid"] or (plan.configurations and np.array_equal(plan.configurations[-1], problem.target))
+
+
+@pytest.mark.parametrize("rings", range(9))
+def test_validator_hex_construction_agrees_with_the_layout(rings):
+    # two independent constructions of formats.md's ordering (edge walk vs axial sort by angle)
+    assert np.allclose(hex_bases_by_angle(rings, 10.4), hex_grid(rings, 10.4), atol=1e-9)
+
+
+def test_validator_rebuilds_hex_bases_and_reports_a_wrong_one():
+    data = {"layout": {"kind": "hex", "rings": 1, "pitch": 22.4},
+            "kinematics": {"kind": "rotary", "arm": 5.0, "steps": 12},
+            "collision": {"buffer": 1.0}, "start": [0] * 7, "target": [0] * 7}
+    p = parse_problem(data)
+    assert validate_plan(p, Plan("complete", [p.start]))["valid"]
+    p.bases = p.bases[[0, 2, 1, 3, 4, 5, 6]]  # as if the layout had swapped two positioners
+    r = validate_plan(p, Plan("complete", [p.start]))
+    assert not r["valid"] and "layout: base of positioner 1 is [11.2, 19.399] but the hex ordering" in r["problems"][0]
+
+
+def test_incidents_are_listed_up_to_the_limit(three):
+    # 0 stands at +x while 1 turns backwards through pointing at 0, and again forwards
+    confs = [np.array([[0], [-k % 12], [0]]) for k in range(0, 7)]
+    confs += confs[::-1][1:]
+    r = validate_plan(three, Plan("complete", confs))
+    assert r["collisions"] == len(r["incidents"]) >= 2
+    assert all(i["positioners"] == [0, 1] and i["distance"] < i["required"] == 4.0 for i in r["incidents"])
+    assert [i["step"] for i in r["incidents"]] == sorted(i["step"] for i in r["incidents"])

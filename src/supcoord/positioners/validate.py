@@ -14,14 +14,21 @@ more than ``resolution/2`` mm between samples (default ``resolution`` = 0.05 mm)
 sampled minimum distance is within ``resolution/2`` of the true one: a collision
 shallower than that may pass unseen (the collision tables err the other way, see
 :mod:`.collision`).  This module is deliberately *independent* of the geometry of
-:mod:`.kinematics`, of :mod:`.collision` and of the tables: it recomputes the arms from the PROBLEM.json numbers with the formulas of
+:mod:`.layout`, :mod:`.kinematics`, :mod:`.collision` and of the tables: it rebuilds a
+hex layout from ``rings`` and ``pitch`` by another construction (axial lattice
+coordinates sorted by ring, then by polar angle) and reports a base that differs from
+the problem's, recomputes the arms from the PROBLEM.json numbers with the formulas of
 ``formats.md``, uses another segment-distance algorithm (closest points of two
 segments by clamped parameters, Ericson §5.1.9) and its own neighbour bound
-``|x_a − x_b| < Σ (arm lengths) + r_a + r_b``, so that it can catch their bugs.
+``|x_a − x_b| < 2·Σ (arm lengths) + 2·max r``, so that it can catch their bugs.
 
-Result: ``{"valid", "collisions", "at_target", "problems", "steps", "min_clearance"}``
-where ``collisions`` counts (step, pair) incidents, ``at_target`` the positioners whose
-last position is their target, ``min_clearance`` the least ``dist − (r_a + r_b)`` seen.
+Result: ``{"valid", "collisions", "at_target", "problems", "steps", "min_clearance",
+"incidents"}`` where ``collisions`` counts (step, pair) incidents, ``at_target`` the
+positioners whose last position is their target, ``min_clearance`` the least
+``dist − (r_a + r_b)`` seen, and ``incidents`` lists the first :data:`MAX_PROBLEMS`
+collisions as ``{"step": k, "positioners": [a, b], "t": t, "distance": d,
+"required": r_a + r_b}`` (``t ∈ [0, 1]`` the time of the least distance within step
+``k → k+1``), which is what ``supcoord check --figure`` draws.
 
 References
 ----------
@@ -38,7 +45,7 @@ import numpy as np
 from .plan import Plan
 from .problem import Problem
 
-__all__ = ["validate_plan", "segment_distance_ericson", "MAX_PROBLEMS"]
+__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS"]
 
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
@@ -105,6 +112,42 @@ def _arm(kin: dict, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.nd
     return elbow, fibre, kin["alpha"] + kin["beta"], incr
 
 
+def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
+    """Hex layout of ``formats.md`` built another way than :func:`.layout.hex_grid`.
+
+    Every axial lattice point ``p·(a + b/2, b·√3/2)`` with hex distance
+    ``(|a| + |b| + |a + b|)/2 ≤ R``, sorted by that distance, then by polar angle in
+    ``[0, 2π)`` (the ring's corner on ``+x`` first, counter-clockwise).
+
+    >>> hex_bases_by_angle(1, 2.0).round(3).tolist()[:3]
+    [[0.0, 0.0], [2.0, 0.0], [1.0, 1.732]]
+    """
+    a, b = (g.ravel() for g in np.meshgrid(np.arange(-rings, rings + 1), np.arange(-rings, rings + 1)))
+    ring = (np.abs(a) + np.abs(b) + np.abs(a + b)) // 2
+    a, b, ring = a[ring <= rings], b[ring <= rings], ring[ring <= rings]
+    xy = pitch * np.stack([a + b / 2.0, b * math.sqrt(3) / 2.0], axis=-1)
+    angle = np.mod(np.arctan2(b * math.sqrt(3) / 2.0, a + b / 2.0), 2 * math.pi)
+    angle = np.where(ring == 0, 0.0, np.where(angle > 2 * math.pi - 1e-9, 0.0, angle))
+    return xy[np.lexsort((angle, ring))]
+
+
+def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
+    """The bases to check against: rebuilt from a hex layout's numbers, else the given points."""
+    layout = problem.layout
+    if layout.get("kind") != "hex":
+        return np.asarray(layout.get("xy", problem.bases), float).reshape(-1, 2)
+    own = hex_bases_by_angle(int(layout["rings"]), float(layout["pitch"]))
+    if own.shape != problem.bases.shape:
+        problems.append(f"layout: {len(problem.bases)} bases, but a hex grid of {layout['rings']} rings has {len(own)}")
+        return problem.bases
+    off = np.nonzero(np.hypot(*(own - problem.bases).T) > 1e-6 * max(1.0, float(layout["pitch"])))[0]
+    if len(off):
+        i = int(off[0])
+        problems.append(f"layout: base of positioner {i} is {problem.bases[i].round(4).tolist()} but the hex "
+                        f"ordering of formats.md puts it at {own[i].round(4).tolist()} ({len(off)} bases differ)")
+    return own
+
+
 def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dict[str, Any]:
     """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a bad plan."""
     kin = problem.kinematics.to_json()
@@ -134,13 +177,14 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
             problems.append(f"configurations[{k}]: positioners {_ids(out)} are out of the joint ranges")
 
     # neighbour pairs, from scratch: sum of arm lengths bounds each segment's distance from its base
-    bases, buf = problem.bases, problem.buffers
+    bases, buf = _bases(problem, problems), problem.buffers
     _, _, reach, incr = _arm(kin, np.zeros((1, len(steps))))
     ia, ib = _close_pairs(bases, 2 * reach + 2 * buf.max(initial=0.0))
     need = buf[ia] + buf[ib]
 
     collisions = 0
     clearance = math.inf
+    incidents: list[dict[str, Any]] = []
     for k in range(max(1, len(confs) - 1)):
         c0 = confs[k]
         c1 = confs[k + 1] if k + 1 < len(confs) else c0
@@ -158,10 +202,12 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
         samples = max(1, math.ceil(2 * travel / resolution)) if sel.any() else 0
         d_static = _pair_distances(kin, bases, c0.astype(float), ia, ib)
         dmin = d_static
+        tmin = np.zeros(len(ia))
         if samples:
             t = np.linspace(0.0, 1.0, samples + 1)
             pa, pb = ia[sel], ib[sel]
             dm = np.full(len(pa), np.inf)
+            tm = np.zeros(len(pa))
             per = max(1, 200_000 // len(t))
             for lo in range(0, len(pa), per):
                 a, b = pa[lo:lo + per], pb[lo:lo + per]
@@ -170,9 +216,12 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
                 a0, a1, _, _ = _arm(kin, qa)
                 b0, b1, _, _ = _arm(kin, qb)
                 ba, bb = bases[a][:, None, :], bases[b][:, None, :]
-                dm[lo:lo + per] = segment_distance_ericson(a0 + ba, a1 + ba, b0 + bb, b1 + bb).min(axis=1)
+                dist = segment_distance_ericson(a0 + ba, a1 + ba, b0 + bb, b1 + bb)
+                dm[lo:lo + per] = dist.min(axis=1)
+                tm[lo:lo + per] = t[dist.argmin(axis=1)]
             dmin = d_static.copy()
             dmin[sel] = np.minimum(d_static[sel], dm)
+            tmin[sel] = np.where(dm < d_static[sel], tm, 0.0)
         if len(dmin):
             clearance = min(clearance, float(np.min(dmin - need)))
         hits = np.nonzero(dmin < need)[0]
@@ -181,8 +230,11 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
             where = f"step {k}->{k + 1}" if len(confs) > 1 else "configuration 0"
             problems.append(f"{where}: positioners {ia[h]} and {ib[h]} collide "
                             f"(distance {dmin[h]:.3f} mm < {need[h]:.3f} mm)")
+            if len(incidents) < MAX_PROBLEMS:
+                incidents.append({"step": k, "positioners": [int(ia[h]), int(ib[h])], "t": float(tmin[h]),
+                                  "distance": float(dmin[h]), "required": float(need[h])})
     valid = not problems
-    return _result(valid, collisions, at_target, problems, len(confs) - 1, clearance)
+    return _result(valid, collisions, at_target, problems, len(confs) - 1, clearance, incidents)
 
 
 def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarray]:
@@ -211,10 +263,10 @@ def _ids(idx: Any, limit: int = 10) -> str:
 
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,
-            clearance: float | None) -> dict[str, Any]:
+            clearance: float | None, incidents: list[dict[str, Any]] | None = None) -> dict[str, Any]:
     if len(problems) > MAX_PROBLEMS:
         problems = problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more"]
     if clearance is not None and not math.isfinite(clearance):
         clearance = None
     return {"valid": bool(valid), "collisions": int(collisions), "at_target": int(at_target), "problems": problems,
-            "steps": int(steps), "min_clearance": clearance}
+            "steps": int(steps), "min_clearance": clearance, "incidents": list(incidents or [])}
