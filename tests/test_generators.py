@@ -131,3 +131,13 @@ def test_count_in_c_with_unused_declared_bits_and_primes():
     assert ctx.count(ctx.true, ["a"]) == 8 and ctx.count(ctx.false, ["a"]) == 0
     big = [ctx.add_variable(f"y{i}", 3).name for i in range(400)]
     assert ctx.count(ctx.domain(big), big) == 3**400
+
+
+def test_live_nodes_in_c_equal_dd_statistics():
+    ctx = Context()
+    names = [ctx.add_variable(f"x{i}", 7).name for i in range(12)]
+    keep = ctx.domain(names) & ~ctx.eq("x3", 2)
+    assert ctx.fast_count and ctx.live_nodes() == ctx.statistics()["n_nodes"] > ctx.node_count(keep)
+    slow = Context("autoref")
+    slow.add_variable("y", 5)
+    assert not slow.fast_count and slow.live_nodes() == len(slow.bdd)

@@ -100,10 +100,13 @@ class Context:
         reordering: bool = False,
         budget: Budget | None = None,
         progress: ProgressCallback | None = None,
+        cache_size: int = 2**16,
     ):
         self._module = load_backend(backend)
         self.backend = "cudd" if self._module.__name__.endswith("cudd") else "autoref"
-        self.bdd = self._module.BDD()
+        # CUDD grows its computed table on demand; dd's default initial 2^18 slots cost
+        # ~20 ms to allocate, which dominates small problems
+        self.bdd = self._module.BDD(initial_cache_size=cache_size) if self.backend == "cudd" else self._module.BDD()
         self.bdd.configure(reordering=reordering)
         self.vars: dict[str, FiniteVar] = {}
         self._bit_owner: dict[str, str] = {}
@@ -113,6 +116,7 @@ class Context:
         self._rename_cache: dict[tuple[str, tuple[str, ...]], dict[str, str]] = {}
         self._apa: Callable[[BDD, int], int] | None = None  # CUDD's exact count, once validated
         self._apa_checked = False
+        self._live: Callable[[], int] | None = None
 
     # -- declaration ---------------------------------------------------------
 
@@ -292,9 +296,10 @@ class Context:
         if extra:
             raise InputError(f"count: predicate depends on bits outside the care set: {sorted(extra)[:5]}", value=sorted(extra))
         if not self._apa_checked and self.backend == "cudd" and self.vars:
-            from .cudd_count import apa_counter
+            from .cudd_count import apa_counter, live_node_reader
 
             self._apa = apa_counter(self.bdd, self._module, exact_count)
+            self._live = live_node_reader(self.bdd, self._apa, self._module)
             self._apa_checked = True
         if self._apa is not None:
             return self._apa(u, len(set(care)))
@@ -357,6 +362,8 @@ class Context:
 
     def live_nodes(self) -> int:
         """Nodes currently in the manager (CUDD's unique table)."""
+        if self._live is not None or self.fast_count:
+            return self._live()
         stats = self.statistics()
         return int(stats["n_nodes"]) if "n_nodes" in stats else len(self.bdd)
 

@@ -47,7 +47,23 @@ def _library(module: Any):
     free = lib.Cudd_FreeApaNumber
     free.restype = None
     free.argtypes = [ctypes.POINTER(ctypes.c_uint32)]
-    return count, free
+    keys, dead = lib.Cudd_ReadKeys, lib.Cudd_ReadDead
+    for fn in (keys, dead):
+        fn.restype = ctypes.c_uint
+        fn.argtypes = [ctypes.c_void_p]
+    return count, free, (keys, dead)
+
+
+def live_node_reader(bdd: Any, counter: Callable[[Any, int], int] | None, module: Any) -> Callable[[], int] | None:
+    """``keys − dead`` of ``bdd``'s manager (``Cudd_ReadKeys``, ``Cudd_ReadDead``): what
+    ``dd``'s ``statistics()["n_nodes"]`` reports, without the dozen other statistics
+    that make that call cost milliseconds; only once :func:`apa_counter` has validated
+    the layout (``counter`` not ``None``)."""
+    if counter is None:
+        return None
+    _, _, (keys, dead) = _library(module)
+    manager = _pointer(bdd, _BDD_MANAGER)
+    return lambda: int(keys(manager)) - int(dead(manager))
 
 
 def apa_counter(bdd: Any, module: Any, reference: Callable[[Any, Any, Sequence[str]], int]) -> Callable[[Any, int], int] | None:
@@ -66,7 +82,7 @@ def apa_counter(bdd: Any, module: Any, reference: Callable[[Any, Any, Sequence[s
 
 
 def _validated(bdd: Any, module: Any, reference) -> Callable[[Any, int], int] | None:
-    count_fn, free_fn = _library(module)
+    count_fn, free_fn, _ = _library(module)
     manager = _pointer(bdd, _BDD_MANAGER)
     if not manager:
         return None
