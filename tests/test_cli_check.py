@@ -85,3 +85,31 @@ def test_fuzz_cli_exits_0_or_2_without_traceback(tmp_path_factory, data):
 def test_rotary_fixture_is_well_formed():
     assert parse_problem(copy.deepcopy(ROTARY)).n == 7
     assert np.all(parse_problem(copy.deepcopy(ROTARY)).target == 6)
+
+
+def test_figure_draws_the_collisions_found(tmp_path):
+    from PIL import Image
+
+    pf = _write(tmp_path, "problem.json", THREE)
+    confs = [[0, -k % 12, 0] for k in range(7)]  # 1 turns back through 0's arm
+    plan = _write(tmp_path, "bad.json", {"status": "complete", "configurations": confs})
+    code, out, err = run("check", pf, plan, "--figure", str(tmp_path / "bad.png"), "--json")
+    result = json.loads(out)
+    assert code == 0 and not result["valid"] and result["incidents"][0]["positioners"] == [0, 1]
+    assert Image.open(tmp_path / "bad.png").format == "PNG"
+    code, out, err = run("check", pf, plan, "--figure", str(tmp_path / "bad.gif"))
+    assert code == 0 and "figure written to" in out and Image.open(tmp_path / "bad.gif").n_frames == 6 * 4 + 1
+    line = _one_line_error(*run("check", pf, plan, "--figure", str(tmp_path / "bad.bmp")))
+    assert "--figure must end in" in line and "bad.bmp" in line
+    line = _one_line_error(*run("check", pf, plan, "--figure", str(tmp_path / "no" / "x.png")))
+    assert "does not exist" in line
+
+
+def test_unknown_fields_are_warned_on_stderr(tmp_path):
+    problem = parse_problem(copy.deepcopy(THREE))
+    plan = _write(tmp_path, "plan.json", plan_from_moves(problem, bfs_moves(problem)).to_json(problem.kinematics))
+    pf = _write(tmp_path, "typo.json", dict(THREE, prority=[3, 2, 1]))
+    code, out, err = run("check", pf, plan, "--json")
+    assert code == 0 and json.loads(out)["valid"]
+    assert err.strip() == (f"warning: {pf}: unknown field 'prority' ignored (known: layout, kinematics, collision, "
+                           "start, target, priority, name, description, comment, preset, seed)")

@@ -66,8 +66,9 @@ def test_infeasible_is_an_answer(tmp_path):
     plan = json.loads(out)
     assert code == 0 and plan["status"] == "infeasible"
     assert "positioners" in plan["reason"] and plan["configurations"] == []
-    code, out, _ = run("solve", pf)
-    assert code == 0 and out.startswith("INFEASIBLE")
+    code, out, _ = run("solve", pf, "--figure", str(tmp_path / "why.png"))
+    assert code == 0 and out.startswith("INFEASIBLE") and "figure written to" in out
+    assert (tmp_path / "why.png").stat().st_size > 1000
 
 
 def test_user_errors_exit_2_with_one_line(tmp_path):
@@ -84,14 +85,23 @@ def test_user_errors_exit_2_with_one_line(tmp_path):
     assert code == 2 and len(err.strip().splitlines()) == 1
     code, _, err = run("solve", pf, "--figure", str(tmp_path / "x.txt"))
     assert code == 2 and len(err.strip().splitlines()) == 1
+    # output paths are checked before any work is done
+    for flag in ("--out", "--figure"):
+        code, out, err = run("solve", pf, flag, str(tmp_path / "missing" / "plan.png"), "--json")
+        assert code == 2 and out == "" and err.strip() == (
+            f"supcoord: error: {flag}: directory '{tmp_path / 'missing'}' does not exist")
+    code, _, err = run("solve", pf, "--out", str(tmp_path))
+    assert code == 2 and "is a directory" in err
 
 
 def test_budget_exits_3_with_unknown(tmp_path):
-    pf = _write(tmp_path, "problem.json", THREE)
+    # a problem that needs the exhaustive symbolic search (its answer is "infeasible")
+    pf = _write(tmp_path, "problem.json", _infeasible())
     code, out, err = run("solve", pf, "--json", "--max-nodes", "1")
     payload = json.loads(out)
     assert code == 3 and payload["status"] == "unknown" and "stats" in payload
     assert payload["stats"]["positioners"] == 3
+    assert err.strip().startswith("supcoord: error: node budget exceeded")
     code, out, _ = run("solve", pf, "--json", "--timeout", "1e-9")
     assert code == 3 and json.loads(out)["status"] == "unknown"
 

@@ -1,8 +1,11 @@
-"""``supcoord check PROBLEM.json PLAN.json [--json]``: independent validation of a plan.
+"""``supcoord check PROBLEM.json PLAN.json [--figure FILE] [--json]``: independent validation of a plan.
 
-Prints ``{"valid", "collisions", "at_target", "problems", ...}`` (``formats.md``).
+Prints ``{"valid", "collisions", "at_target", "problems", ...}`` (``formats.md``), plus
+``steps``, ``min_clearance`` and ``incidents`` (:func:`~supcoord.positioners.validate.validate_plan`).
 An invalid plan is an answer (exit 0); a missing or malformed file, or a problem whose
 start or target itself collides, is a user error (exit 2, one line on stderr).
+``--figure`` draws what was found: the collision incidents zoomed (``.png``/``.pdf``/
+``.svg``/``.jpg``), or the plan animated with colliding positioners in red (``.gif``).
 """
 
 from __future__ import annotations
@@ -12,13 +15,15 @@ import argparse
 from ..positioners.plan import load_plan
 from ..positioners.problem import load_problem
 from ..positioners.validate import validate_plan
+from .cmd_solve import figure_suffix
 from .common import CommandResult, Console, add_common_options
 
 __all__ = ["register", "run"]
 
-EXAMPLE = """example:
+EXAMPLE = """examples:
   supcoord check problem.json plan.json --json
-  -> {"valid": true, "collisions": 0, "at_target": 19, "problems": [], ...}"""
+  -> {"valid": true, "collisions": 0, "at_target": 19, "problems": [], ...}
+  supcoord check problem.json plan.json --figure collisions.png   # draws each collision found"""
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -34,6 +39,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("plan", metavar="PLAN.json", help="the plan to check")
     p.add_argument("--resolution", type=float, default=0.05, metavar="MM",
                    help="largest sampling error of the interpolated motion, in mm (default 0.05)")
+    p.add_argument("--figure", metavar="FILE",
+                   help="draw the result: .gif animates the plan (collisions in red); .png/.pdf/.svg/.jpg "
+                        "shows each collision found, or a strip of frames when there is none")
     add_common_options(p, budgets=False)
     p.set_defaults(func=run)
     return p
@@ -44,13 +52,22 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
     if not args.resolution > 0:
         raise InputError(f"--resolution must be positive, got {args.resolution}", value=args.resolution)
+    figure_suffix(args.figure)
     problem = load_problem(args.problem)
     plan = load_plan(args.plan, problem)
+    for warning in problem.warnings:
+        console.log(f"warning: {warning}")
     result = validate_plan(problem, plan, resolution=args.resolution)
+    if args.figure:
+        from ..positioners.figures_plan import save_plan_figure
+
+        save_plan_figure(problem, plan, args.figure, result)
     verdict = "VALID" if result["valid"] else "INVALID"
     lines = [f"{verdict}: {result['steps']} steps, {result['collisions']} collisions, "
              f"{result['at_target']}/{problem.n} positioners at target"]
     if result["min_clearance"] is not None:
         lines.append(f"smallest clearance beyond the buffers: {result['min_clearance']:.3f} mm")
     lines += [f"  - {p}" for p in result["problems"]]
+    if args.figure:
+        lines.append(f"figure written to {args.figure}")
     return CommandResult(payload=result, text="\n".join(lines))

@@ -4,15 +4,24 @@ Prints the PLAN.json object (``formats.md``): ``complete`` with a validated plan
 ``infeasible`` with a ``reason`` naming the positioners (exit 0: an answer), or — when
 ``--max-nodes``/``--timeout`` run out — ``unknown`` with the statistics so far (exit 3).
 A missing or malformed problem, or a start/target that itself collides, exits 2.
+``--figure``: ``.gif`` animates a complete plan, ``.png``/``.pdf``/``.svg``/``.jpg`` draw
+a strip of its frames; an infeasible answer draws the problem with the positioners
+of its certificate in orange.  Fields of the problem file that the format does not
+know are reported as warnings on standard error.
 """
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from .common import CommandResult, Console, add_common_options, budget_from_args
 
-__all__ = ["register", "run"]
+__all__ = ["register", "run", "figure_suffix", "writable", "FIGURE_SUFFIXES"]
+
+#: what ``--figure`` accepts (the same list as ``positioners.figures.FIGURE_SUFFIXES``,
+#: repeated here so that a bad name is refused before matplotlib is imported)
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".gif")
 
 EXAMPLE = """examples:
   supcoord solve problem.json --out plan.json --figure plan.gif
@@ -32,7 +41,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("problem", metavar="PROBLEM.json", help="the coordination problem")
     p.add_argument("--out", metavar="PLAN.json", help="write the plan here")
-    p.add_argument("--figure", metavar="FILE", help="draw the plan: .gif animates it, other extensions get a strip")
+    p.add_argument("--figure", metavar="FILE",
+                   help="draw the answer: .gif animates the plan, .png/.pdf/.svg/.jpg a strip of frames "
+                        "(infeasible: the positioners involved)")
     p.add_argument("--route", choices=["local", "monolithic"], default="local",
                    help="local: exact windows with certificates (default); monolithic: one model of the whole grid")
     p.add_argument("--order", choices=["rcm", "hex"], help="variable order (default: rcm for local, hex for monolithic)")
@@ -41,27 +52,48 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
-def run(args: argparse.Namespace, console: Console) -> CommandResult:
+def figure_suffix(path: str | None) -> str | None:
+    """The ``--figure`` file's suffix, refused (exit 2) unless it is one of :data:`FIGURE_SUFFIXES`."""
     from ..errors import InputError
+
+    if path is None:
+        return None
+    suffix = Path(path).suffix.lower()
+    if suffix not in FIGURE_SUFFIXES:
+        raise InputError(f"--figure must end in {', '.join(FIGURE_SUFFIXES)}, got {path!r}", value=path)
+    writable(path, "--figure")
+    return suffix
+
+
+def writable(path: str | None, flag: str) -> None:
+    """Refuse (exit 2) an output path whose directory does not exist, before any work is done."""
+    from ..errors import InputError
+
+    if path is not None and not Path(path).resolve().parent.is_dir():
+        raise InputError(f"{flag}: directory {str(Path(path).parent)!r} does not exist", value=path)
+    if path is not None and Path(path).is_dir():
+        raise InputError(f"{flag}: {path!r} is a directory, not a file name", value=path)
+
+
+def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..positioners.planner import solve
     from ..positioners.problem import load_problem
 
     budget = budget_from_args(args)
+    figure_suffix(args.figure)
+    writable(args.out, "--out")
     problem = load_problem(args.problem)
-    if args.figure and not str(args.figure).lower().endswith((".gif", ".png", ".pdf", ".svg", ".jpg")):
-        raise InputError(f"--figure must end in .gif, .png, .pdf, .svg or .jpg, got {args.figure}", value=args.figure)
+    for warning in problem.warnings:
+        console.log(f"warning: {warning}")
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
                  progress=console.progress)
     kin = problem.kinematics
     if args.out:
         plan.dump(args.out, kin)
-    if args.figure and plan.status == "complete":
-        from ..positioners.figures import save_plan_gif, save_plan_strip
+    if args.figure:
+        from ..positioners.figures_plan import save_plan_figure
 
-        if str(args.figure).lower().endswith(".gif"):
-            save_plan_gif(problem, plan, args.figure)
-        else:
-            save_plan_strip(problem, plan, args.figure)
+        save_plan_figure(problem, plan, args.figure)
     s = plan.stats
     if plan.status == "complete":
         text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "
@@ -71,4 +103,6 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         text = f"INFEASIBLE: {plan.reason}"
     if args.out:
         text += f"\nplan written to {args.out}"
+    if args.figure:
+        text += f"\nfigure written to {args.figure}"
     return CommandResult(payload=plan.to_json(kin), text=text)

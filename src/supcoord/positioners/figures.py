@@ -1,18 +1,25 @@
-"""Figures (matplotlib, Agg backend, no network): layouts, configurations, plans.
+"""Figures (matplotlib, Agg backend, no network): layouts, configurations, plans, collisions.
 
-- :func:`plot_configuration`: bases, reach circles, the arms, and the colliding segment
-  drawn as the capsule ``{x : dist(x, S) ≤ r}`` of its buffer ``r`` (so two capsules
-  overlap exactly when the two positioners collide).
-- :func:`plot_problem` / :func:`save_problem_figure`: start (solid) and target (dashed).
-- :func:`save_plan_strip`: a strip of frames of a plan; :func:`save_plan_gif`: an
-  animated GIF (``matplotlib.animation.PillowWriter``), each step interpolated in
-  joint space as the validator does.
+Every drawing uses the same visual language, explained by a legend:
+
+- base ``+`` with its number, patrol disc (grey circle of radius ``reach``);
+- the colliding segment (rotary arm, or alpha-beta's beta arm) drawn as the *capsule*
+  ``{x : dist(x, S) ≤ r}`` of its buffer ``r``, so two capsules overlap exactly when the
+  two positioners collide; alpha-beta's alpha arm as a thin dark line;
+- the target as a dashed green arm and a green ``×`` at the target fibre position;
+- positioners in collision in red, positioners named by an infeasibility certificate in
+  orange.
+
+:func:`plot_problem` / :func:`save_problem_figure` draw a problem (start and target);
+:mod:`.figures_plan` draws plans (strip of frames, animated GIF, collision incidents);
+its functions are importable from here too.
 """
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
 
 import matplotlib
 
@@ -20,17 +27,23 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
-from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
-from matplotlib.patches import Circle, Polygon  # noqa: E402
+from matplotlib.collections import LineCollection, PatchCollection, PolyCollection  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
 
 from ..errors import InputError  # noqa: E402
 from .kinematics import Kinematics  # noqa: E402
-from .plan import Plan  # noqa: E402
 from .problem import Problem  # noqa: E402
 
-__all__ = ["capsule", "plot_configuration", "plot_problem", "save_problem_figure", "save_plan_strip",
-           "save_plan_gif", "interpolate_plan"]
+__all__ = ["capsule", "capsules", "arms", "plot_configuration", "plot_target", "plot_problem", "save_problem_figure", "draw_layout", "add_legend",
+           "save_figure", "new_figure", "FIGURE_SUFFIXES", "COLORS"]
+
+#: the colours of the visual language (module docstring)
+COLORS = {"arm": "C0", "target": "C2", "collision": "C3", "certificate": "C1", "alpha": "0.25", "disc": "0.82"}
+#: file types a figure can be written to (``.gif``: an animation where that makes sense)
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".gif")
+#: positioner numbers are drawn up to this many positioners
+MAX_NUMBERED = 200
 
 
 def capsule(p0: Any, p1: Any, radius: float, n: int = 12) -> np.ndarray:
@@ -43,43 +56,70 @@ def capsule(p0: Any, p1: Any, radius: float, n: int = 12) -> np.ndarray:
     return np.concatenate([p1 + radius * np.c_[np.cos(a1), np.sin(a1)], p0 + radius * np.c_[np.cos(a0), np.sin(a0)]])
 
 
-def _arms(kin: Kinematics, bases: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(non-colliding links, colliding segments) in the focal plane for positions ``q`` (N, J)."""
-    seg = kin.segments(q) + bases[:, None, :]
+def arms(kin: Kinematics, bases: np.ndarray, q: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(alpha links base → elbow, colliding segments) in the focal plane for positions ``q`` (N, J)."""
+    seg = kin.segments(np.asarray(q, float)) + bases[:, None, :]
     if kin.kind == "alpha-beta":
-        links = np.stack([bases, seg[:, 0]], axis=1)  # base → elbow
-    else:
-        links = np.zeros((0, 2, 2))
-    return links, seg
+        return np.stack([bases, seg[:, 0]], axis=1), seg
+    return np.zeros((0, 2, 2)), seg
 
 
-def plot_configuration(ax: Any, problem: Problem, positions: Any, *, color: str = "C0", alpha: float = 0.35,
-                       linestyle: str = "-", label: str | None = None, highlight: Any = ()) -> None:
-    """Draw one configuration: arms, and each colliding segment with its buffer capsule."""
+def capsules(problem: Problem, seg: np.ndarray) -> list[np.ndarray]:
+    """The buffer capsule outline of every colliding segment ``seg`` (N, 2, 2)."""
+    return [capsule(s[0], s[1], problem.buffers[p]) for p, s in enumerate(seg)]
+
+
+def _colors(n: int, color: str, highlight: Any) -> list[str]:
+    """Per-positioner colours: ``highlight`` is a set of indices (collision red) or a dict index → colour."""
+    out = [color] * n
+    items = highlight.items() if isinstance(highlight, dict) else ((int(h), COLORS["collision"]) for h in highlight)
+    for p, c in items:
+        if 0 <= int(p) < n:
+            out[int(p)] = c
+    return out
+
+
+def plot_configuration(ax: Any, problem: Problem, positions: Any, *, color: str = COLORS["arm"], alpha: float = 0.35,
+                       linestyle: str = "-", label: str | None = None, highlight: Any = ()) -> dict[str, Any]:
+    """Draw one configuration: alpha links, each colliding segment with its buffer capsule, fibres.
+
+    ``highlight``: indices drawn in red (collisions), or a dict ``{index: colour}``.
+    Returns the artists (``links``, ``capsules``, ``segments``, ``fibres``) so that an
+    animation can update them in place.
+    """
     kin, bases = problem.kinematics, problem.bases
-    links, seg = _arms(kin, bases, np.asarray(positions, float))
-    if len(links):
-        ax.add_collection(LineCollection(links, colors="0.35", linewidths=1.0, linestyles=linestyle))
-    hl = set(int(h) for h in highlight)
-    patches = [Polygon(capsule(s[0], s[1], problem.buffers[p]), closed=True) for p, s in enumerate(seg)]
-    colors = ["C3" if p in hl else color for p in range(len(seg))]
-    ax.add_collection(PatchCollection(patches, facecolors=colors, edgecolors=colors, alpha=alpha,
-                                      linestyles=linestyle, linewidths=0.8))
-    ax.add_collection(LineCollection(seg, colors=colors, linewidths=1.2, linestyles=linestyle, label=label))
-    ax.plot(seg[:, 1, 0], seg[:, 1, 1], "o", color=color, markersize=2.5)
+    links, seg = arms(kin, bases, positions)
+    colors = _colors(problem.n, color, highlight)
+    out: dict[str, Any] = {}
+    if kin.kind == "alpha-beta":
+        out["links"] = ax.add_collection(LineCollection(links, colors=COLORS["alpha"], linewidths=1.0,
+                                                        linestyles=linestyle))
+    out["capsules"] = ax.add_collection(PolyCollection(capsules(problem, seg), facecolors=colors, edgecolors=colors,
+                                                       alpha=alpha, linestyles=linestyle, linewidths=0.8))
+    out["segments"] = ax.add_collection(LineCollection(seg, colors=colors, linewidths=1.2, linestyles=linestyle,
+                                                       label=label))
+    out["fibres"] = ax.scatter(seg[:, 1, 0], seg[:, 1, 1], s=6, c=colors, zorder=3)
+    return out
 
 
-def _frame(ax: Any, problem: Problem, title: str | None = None, numbers: bool = True) -> None:
+def draw_layout(ax: Any, problem: Problem, title: str | None = None, numbers: bool | None = None,
+                focus: Any = None) -> None:
+    """Patrol discs, bases and their numbers, equal axes in mm; ``focus`` = indices to zoom on."""
     bases, reach = problem.bases, problem.kinematics.reach
-    ax.add_collection(PatchCollection([Circle(b, reach) for b in bases], facecolors="none", edgecolors="0.8",
-                                      linewidths=0.6))
+    ax.add_collection(PatchCollection([Circle(b, reach) for b in bases], facecolors="none",
+                                      edgecolors=COLORS["disc"], linewidths=0.6))
     ax.plot(bases[:, 0], bases[:, 1], "k+", markersize=4)
-    if numbers and problem.n <= 100:
-        for p, (x, y) in enumerate(bases):
-            ax.annotate(str(p), (x, y), textcoords="offset points", xytext=(2, -8), fontsize=6, color="0.3")
     pad = reach + float(problem.buffers.max(initial=0.0)) + 1.0
-    ax.set_xlim(bases[:, 0].min() - pad, bases[:, 0].max() + pad)
-    ax.set_ylim(bases[:, 1].min() - pad, bases[:, 1].max() + pad)
+    shown = bases if focus is None or len(focus) == 0 else bases[np.asarray(list(focus), int)]
+    lo, hi = shown.min(axis=0) - pad, shown.max(axis=0) + pad
+    if numbers is None:
+        numbers = problem.n <= MAX_NUMBERED
+    if numbers:
+        inside = np.all((bases >= lo - pad) & (bases <= hi + pad), axis=1)
+        for p in np.nonzero(inside)[0]:
+            ax.annotate(str(p), bases[p], textcoords="offset points", xytext=(2, -8), fontsize=6, color="0.3")
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
@@ -87,75 +127,108 @@ def _frame(ax: Any, problem: Problem, title: str | None = None, numbers: bool = 
         ax.set_title(title, fontsize=9)
 
 
-def plot_problem(problem: Problem, ax: Any = None, *, show_target: bool = True) -> Any:
-    """Layout with reach circles, the start (solid, blue) and the target (dashed, green)."""
+def plot_target(ax: Any, problem: Problem) -> None:
+    """The target: dashed faint arms and capsules, and a green × at each target fibre position."""
+    plot_configuration(ax, problem, problem.target, color=COLORS["target"], linestyle="--", alpha=0.12)
+    fibres = problem.kinematics.fibre(problem.target.astype(float)) + problem.bases
+    ax.plot(fibres[:, 0], fibres[:, 1], "x", color=COLORS["target"], markersize=5, mew=1.2, zorder=4)
+
+
+def add_legend(target: Any, kind: str, extra: Iterable[str] = (), **kwargs: Any) -> Any:
+    """Legend of the visual language on an axes or a figure; ``extra`` ⊆ {"collision", "certificate"}."""
+    beta = "beta arm" if kind == "alpha-beta" else "arm"
+    handles = [Line2D([], [], color=COLORS["arm"], lw=5, alpha=0.45, solid_capstyle="round",
+                      label=f"{beta} + buffer (capsule)")]
+    if kind == "alpha-beta":
+        handles.append(Line2D([], [], color=COLORS["alpha"], lw=1, label="alpha arm"))
+    handles += [Line2D([], [], color=COLORS["target"], lw=1.2, ls="--", label="target arm"),
+                Line2D([], [], color=COLORS["target"], marker="x", ls="", label="target fibre"),
+                Line2D([], [], color="k", marker="+", ls="", label="base"),
+                Line2D([], [], color=COLORS["disc"], marker="o", mfc="none", ls="", markersize=9, label="patrol disc")]
+    names = {"collision": "in collision", "certificate": "cannot all reach target"}
+    for key in extra:
+        handles.append(Line2D([], [], color=COLORS[key], lw=5, alpha=0.6, solid_capstyle="round", label=names[key]))
+    kwargs.setdefault("fontsize", 7)
+    return target.legend(handles=handles, **kwargs)
+
+
+def _figsize(problem: Problem, base: float = 5.0) -> tuple[float, float]:
+    span = np.ptp(problem.bases, axis=0) + 2 * problem.kinematics.reach if problem.n else np.ones(2)
+    side = min(12.0, base + 0.35 * np.sqrt(problem.n))
+    ratio = float(np.clip(span[1] / max(span[0], 1e-9), 0.5, 2.0))
+    return (side, side * ratio)
+
+
+def new_figure(problem: Problem, base: float = 5.0, legend_width: float = 1.9) -> tuple[Any, Any]:
+    """A figure with one axes sized to the layout and ``legend_width`` inches on its right for the legend.
+
+    The axes is placed explicitly (margins in inches for the labels and the title), so
+    the geometry does not change between frames of an animation.
+    """
+    w, h = _figsize(problem, base)
+    left, bottom, top, right = 0.75, 0.55, 0.4, legend_width + 0.15
+    fig = plt.figure(figsize=(w + left + right, h + bottom + top))
+    ax = fig.add_axes((left / (w + left + right), bottom / (h + bottom + top), w / (w + left + right),
+                       h / (h + bottom + top)))
+    return fig, ax
+
+
+def plot_problem(problem: Problem, ax: Any = None, *, show_target: bool = True, highlight: Any = (),
+                 title: str | None = None, legend: bool = True) -> Any:
+    """Layout with patrol discs and numbers, the start (solid), the target (dashed, ×), a legend.
+
+    ``highlight``: indices in red, or a dict ``{index: colour}`` (e.g. an infeasibility
+    certificate in ``COLORS["certificate"]``).
+    """
     if ax is None:
-        size = min(12.0, 4.0 + 0.25 * np.sqrt(problem.n) * 2)
-        _, ax = plt.subplots(figsize=(size, size))
-    _frame(ax, problem, f"{problem.n} positioners, {problem.kinematics.kind}: start (solid), target (dashed)")
-    plot_configuration(ax, problem, problem.start, color="C0", label="start")
+        _, ax = new_figure(problem)
+    draw_layout(ax, problem, title or f"{problem.n} positioners, {problem.kinematics.kind}: start and target")
     if show_target:
-        plot_configuration(ax, problem, problem.target, color="C2", linestyle="--", alpha=0.15, label="target")
+        plot_target(ax, problem)
+    plot_configuration(ax, problem, problem.start, highlight=highlight)
+    if legend:
+        values = highlight.values() if isinstance(highlight, dict) else [COLORS["collision"]] * len(list(highlight))
+        extra = [k for k in ("collision", "certificate") if COLORS[k] in set(values)]
+        add_legend(ax, problem.kinematics.kind, extra, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                   borderaxespad=0.0)
     return ax
 
 
-def save_problem_figure(problem: Problem, path: str | Path, dpi: int = 120) -> Path:
-    """Write :func:`plot_problem` to ``path`` (PNG, SVG or PDF by extension)."""
-    ax = plot_problem(problem)
-    fig = ax.figure
-    fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
+def save_figure(fig: Any, path: str | Path, dpi: int = 120, tight: bool = True) -> Path:
+    """Write ``fig`` by extension (``.gif`` through Pillow, as one frame) and close it."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in FIGURE_SUFFIXES:
+        plt.close(fig)
+        raise InputError(f"a figure is written as {', '.join(FIGURE_SUFFIXES)}, got {path}", value=str(path))
+    if tight:
+        fig.tight_layout()
+    if suffix == ".gif":
+        from PIL import Image
+
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=dpi)
+        Image.open(buf).convert("RGB").quantize(colors=128).save(path)
+    else:
+        fig.savefig(path, dpi=dpi)
     plt.close(fig)
-    return Path(path)
+    return path
 
 
-def interpolate_plan(problem: Problem, plan: Plan, substeps: int = 4) -> list[np.ndarray]:
-    """Float configurations along the plan, ``substeps`` per step (joint-space interpolation)."""
-    if not plan.configurations:
-        return [problem.start.astype(float)]
-    kin = problem.kinematics
-    out = []
-    confs = plan.configurations
-    for k in range(len(confs) - 1):
-        delta = kin.signed_delta(confs[k], confs[k + 1])
-        for s in range(substeps):
-            out.append(confs[k] + delta * (s / substeps))
-    out.append(np.asarray(confs[-1], float))
-    return out
+def save_problem_figure(problem: Problem, path: str | Path, dpi: int = 120, **kwargs: Any) -> Path:
+    """Write :func:`plot_problem` to ``path`` (PNG, SVG, PDF, JPG or a one-frame GIF by extension)."""
+    ax = plot_problem(problem, **kwargs)
+    return save_figure(ax.figure, path, dpi, tight=False)
 
 
-def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: int = 8, dpi: int = 100) -> Path:
-    """A row of frames (evenly spaced configurations of the plan, first and last included)."""
-    confs = plan.configurations or [problem.start]
-    idx = np.unique(np.linspace(0, len(confs) - 1, min(max_frames, len(confs))).round().astype(int))
-    fig, axes = plt.subplots(1, len(idx), figsize=(3.2 * len(idx), 3.4), squeeze=False)
-    for ax, k in zip(axes[0], idx):
-        _frame(ax, problem, f"step {k}/{len(confs) - 1}", numbers=False)
-        plot_configuration(ax, problem, problem.target, color="C2", linestyle="--", alpha=0.1)
-        plot_configuration(ax, problem, confs[k], color="C0")
-        ax.set_xlabel("")
-        ax.set_ylabel("")
-    fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return Path(path)
+_PLAN_FIGURES = ("interpolate_plan", "save_plan_strip", "save_plan_gif", "save_incidents_figure", "save_plan_figure")
+__all__ += list(_PLAN_FIGURES)
 
 
-def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int = 3, fps: int = 8,
-                  dpi: int = 80) -> Path:
-    """An animated GIF of the plan (Pillow), each step in ``substeps`` interpolated frames."""
-    if str(path).lower().endswith(".gif") is False:
-        raise InputError(f"an animation is written as .gif, got {path}", value=str(path))
-    frames = interpolate_plan(problem, plan, substeps)
-    fig, ax = plt.subplots(figsize=(5, 5))
+def __getattr__(name: str) -> Any:
+    """The plan figures live in :mod:`.figures_plan` (which imports this module); re-exported lazily."""
+    if name in _PLAN_FIGURES:
+        from . import figures_plan
 
-    def draw(i: int) -> None:
-        ax.clear()
-        _frame(ax, problem, f"t = {i / substeps:.2f} / {len(frames) // substeps}", numbers=False)
-        plot_configuration(ax, problem, problem.target, color="C2", linestyle="--", alpha=0.1)
-        plot_configuration(ax, problem, frames[i], color="C0")
-
-    anim = FuncAnimation(fig, draw, frames=len(frames), interval=1000 // fps)
-    anim.save(str(path), writer=PillowWriter(fps=fps), dpi=dpi)
-    plt.close(fig)
-    return Path(path)
+        return getattr(figures_plan, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
