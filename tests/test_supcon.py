@@ -281,3 +281,19 @@ def test_pure_python_backend(method):
     result = supcon(Gs, lift_spec(Gs, Es), method=method)
     assert (result.stats["states"], result.stats["transitions"], result.stats["marked"]) == (12, 24, 1)
     assert is_controllable(Gs, result.supervisor) and is_nonblocking(result.supervisor)
+
+
+def test_a_cascade_of_removals_needs_a_second_pass():
+    """E forbids c2, so state 2 blocks; the nonblocking step removes it, the
+    controllability step then removes 1 (u1 leads to 2), and a second pass confirms
+    that 0 still reaches the marked state through 3: V = {0, 3, 4}."""
+    ev = {n: Event(n, n.startswith("c")) for n in ["c1", "c2", "c3", "c4", "c5", "u1"]}
+    G = Generator(5, ev.values(), [(0, "c1", 1), (1, "u1", 2), (2, "c2", 4), (1, "c3", 4), (0, "c4", 3),
+                                   (3, "c5", 4)], 0, [4], "G")
+    E = Generator(1, ev.values(), [(0, e, 0) for e in ev if e != "c2"], 0, [0], "E")
+    expected = supcon_naive(G, E)
+    assert expected.n_states == 3 and expected.same_as(faudes_supcon(G, E))
+    ctx = Context()
+    for method in METHODS:
+        result = supcon(from_explicit(ctx, G), from_explicit(ctx, E), method=method)
+        assert to_explicit(result.supervisor).same_as(expected) and result.stats["iterations"] == 2
