@@ -165,7 +165,8 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
         z = zold & ~coreachable(P, r0 & ~zold, within=r0, method=method, events=unc)  # Z \ UPre*(¬Z)
         i += 1
         ctx.check_budget("supcon", iteration=i, z_nodes=ctx.node_count(z))
-    z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
+    if z != r0:  # (Z = Reach(P) is its own Reach_Z(q0))
+        z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
     V = P.restrict(z, name)
     stats = {
         "states": V.count_states(),
