@@ -1,4 +1,7 @@
-"""Figures (matplotlib, Agg backend, no network): layouts, configurations, plans, collisions.
+"""Figures (matplotlib, no network): layouts, configurations, plans, collisions.
+
+The Agg backend is selected on import (files only, no display needed), except inside
+a Jupyter kernel, whose inline backend shows the figures :func:`plot_problem` returns.
 
 Every drawing uses the same visual language, explained by a legend:
 
@@ -18,12 +21,14 @@ its functions are importable from here too.
 from __future__ import annotations
 
 import io
+import sys
 from pathlib import Path
 from typing import Any, Iterable
 
 import matplotlib
 
-matplotlib.use("Agg")
+if "ipykernel" not in sys.modules:  # headless everywhere but in Jupyter, which keeps its inline backend
+    matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402

@@ -96,7 +96,7 @@ def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: 
         ax.set_ylabel("")
     for ax in axes.ravel()[len(idx):]:
         ax.set_axis_off()
-    fig.tight_layout(rect=(0, 0.06 if rows == 1 else 0.03, 1, 1))
+    fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))  # the legend's row at the bottom
     add_legend(fig, problem.kinematics.kind, ["collision"] if hit_any else [], loc="lower center", ncol=7,
                frameon=False)
     fig.savefig(path, dpi=dpi)
@@ -207,9 +207,9 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], 
     more = result.get("collisions", 0) - len(incidents)
     fig.suptitle(f"{result.get('collisions', 0)} collision incident(s)" + (f", first {len(incidents)} shown"
                                                                           if more > 0 else ""), fontsize=10)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))  # the legend's row at the bottom
     add_legend(fig, problem.kinematics.kind, ["collision"], loc="lower center", ncol=7, frameon=False)
-    return save_figure(fig, path, dpi)
+    return save_figure(fig, path, dpi, tight=False)
 
 
 def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dict[str, Any] | None = None) -> Path:
