@@ -38,6 +38,7 @@ FULL_SIZES = {
     "coupled_factories": [2, 3, 4, 5, 6, 7, 8, 10],
     "transfer_line_chain": [1, 2, 3, 4, 5, 6, 8, 10],
     "machine_line": [4, 8, 9, 10, 11, 12, 14, 16, 20, 24, 32],
+    "paper_literal": [2, 3, 4, 5, 10, 30, 100, 300],
 }
 QUICK_SIZES = {
     "dining_philosophers": [4, 8, 12],
@@ -45,6 +46,7 @@ QUICK_SIZES = {
     "coupled_factories": [2, 3, 4],
     "transfer_line_chain": [1, 2, 3],
     "machine_line": [4, 8, 12],
+    "paper_literal": [2, 3, 10],
 }
 CLASSIC = ["small_factory", "transfer_line", "cat_mouse", "agv"]
 MEMORY_LIMIT = 16 * 2**30  # bytes of address space per worker
@@ -59,6 +61,14 @@ def _components(family: str, size: int):
     if family == "classic":
         m = classic.load(CLASSIC[size])
         return m.plants, m.specs
+    if family == "paper_literal":  # the seed paper's model, literally: V = supcon(G, allevents(G) || S)
+        from supcoord.positioners.paper import plant_explicit, random_instance, spec_explicit
+
+        inst = random_instance(size, 8, seed=1)
+        plants = [plant_explicit(inst.number(i), inst.steps, inst.start[i], inst.target[i], inst.priority_kind(i))
+                  for i in range(size)]
+        specs = [spec_explicit(inst.number(i), inst.steps, inst.start[i], inst.target[i]) for i in range(size)]
+        return plants, specs
     return families.FAMILIES[family](size)
 
 
@@ -229,6 +239,7 @@ def main(argv=None) -> int:
     chosen = args.families or (list(sizes) + ["classic"])
     command = "python benchmarks/bench_supcon.py " + " ".join(a for a in (argv if argv is not None else sys.argv[1:]))
     started = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    load_start = os.getloadavg()
     info = machine()
     lines = [HEADER, RULE]
     print(HEADER, flush=True)
@@ -278,6 +289,9 @@ def main(argv=None) -> int:
             "# supcon benchmark: supcoord (symbolic) vs libFAUDES (explicit)", "",
             f"- command: `{command.strip()}`", f"- date: {started}",
             f"- machine: {info['nproc']} CPUs ({info['cpu']}), RAM {info['ram']}, {info['platform']}",
+            f"- load (`uptime`'s 1/5/15-minute averages): {' / '.join(f'{x:.2f}' for x in load_start)} at the start, "
+            f"{' / '.join(f'{x:.2f}' for x in os.getloadavg())} at the end (the machine is shared with other jobs: "
+            "wall-clock seconds are noisy; the speed-ups compare runs made minutes apart under the same load)",
             f"- versions: Python {info['python']}, dd {info['dd']} (CUDD), {info['faudes']}",
             f"- timeouts: libFAUDES {ftimeout:.0f} s per run (not run on larger sizes after a miss), "
             f"supcoord {stimeout:.0f} s; every run in a fresh subprocess, address space limited to "
