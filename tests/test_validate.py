@@ -259,3 +259,60 @@ def test_incidents_are_listed_up_to_the_limit(three):
     assert r["collisions"] == len(r["incidents"]) >= 2
     assert all(i["positioners"] == [0, 1] and i["distance"] < i["required"] == 4.0 for i in r["incidents"])
     assert [i["step"] for i in r["incidents"]] == sorted(i["step"] for i in r["incidents"])
+
+
+# --- the validator and the tables are independent implementations of one definition ----------
+
+AB_KIN = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7, "beta_range": [0, 180]}
+ROT_KIN = {"kind": "rotary", "arm": 15.0, "steps": 12}
+
+
+@settings(max_examples=60, deadline=None)
+@given(kin=st.sampled_from([AB_KIN, ROT_KIN]), dist=st.floats(8.0, 40.0), angle=st.floats(0, 2 * np.pi),
+       data=st.data())
+def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle, data):
+    """Table free ⇒ the validator sees no collision; validator collision ⇒ the table blocks; a
+    blocked move the validator passes is a close call (clearance within its sampling error).
+    The table entry is computed by the tables' own primitive (``motion_collides``, what
+    ``swept_table`` calls for the entries its end-point bounds leave open)."""
+    from supcoord.positioners.collision import motion_collides
+
+    base_b = [dist * np.cos(angle), dist * np.sin(angle)]
+    pair = {"layout": {"kind": "points", "xy": [[0.0, 0.0], base_b]}, "kinematics": kin,
+            "collision": {"buffer": 2.0}, "start": [0, 0] if kin["kind"] == "rotary" else [[0, 0], [0, 0]],
+            "target": [0, 0] if kin["kind"] == "rotary" else [[0, 0], [0, 0]]}
+    p = parse_problem(pair, check_collisions=False)
+    k = p.kinematics
+    i = data.draw(st.integers(0, k.n_positions - 1))
+    j = data.draw(st.integers(0, k.n_positions - 1))
+    m = data.draw(st.integers(0, len(k.moves()) - 1))
+    joint, delta = k.moves()[m]
+    qa, qb = k.all_positions()[i], k.all_positions()[j]
+    nxt = k.step(qa, joint, delta)
+    if nxt is None:  # past a hard stop: no motion to validate
+        return
+    p.start, p.target = np.array([qa, qb]), np.array([nxt, qb])
+    result = validate_plan(p, Plan("complete", [p.start, p.target]))
+    d = np.zeros(k.n_joints)
+    d[joint] = delta
+    blocked = bool(motion_collides(k, [0.0, 0.0], qa, d, k, base_b, qb, np.zeros(k.n_joints), 4.0))
+    if not blocked:
+        assert result["valid"], result["problems"]
+    if result["collisions"]:
+        assert blocked
+    if blocked and result["valid"]:
+        assert result["min_clearance"] < 0.05 / 2 + 1e-3
+
+
+@pytest.mark.parametrize("kin", [ROT_KIN, AB_KIN], ids=["rotary", "alpha-beta"])
+@pytest.mark.parametrize("seed", range(4))
+def test_planner_plans_on_random_hex_problems_pass_the_validator(kin, seed):
+    from supcoord.positioners import random_problem, solve
+
+    p = random_problem({"kind": "hex", "rings": 1, "pitch": 22.4}, kin, 2.0, seed)
+    plan = solve(p)
+    assert plan.status in ("complete", "infeasible")
+    if plan.status == "complete":
+        result = validate_plan(p, plan)
+        assert result["valid"] and result["at_target"] == p.n, result["problems"]
+        assert plan.lower_bound <= plan.makespan
