@@ -167,7 +167,7 @@ def _paths(node, prefix=()):
 
 @st.composite
 def mutated_problems(draw):
-    data = copy.deepcopy(draw(st.sampled_from([ROTARY, ALPHA_BETA])))
+    data = copy.deepcopy(draw(st.sampled_from([ROTARY, ALPHA_BETA, SDSS_SHORT])))
     for _ in range(draw(st.integers(1, 3))):
         paths = [p for p in _paths(data) if p]
         if not paths:
