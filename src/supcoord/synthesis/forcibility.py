@@ -59,6 +59,7 @@ __all__ = [
     "forcible_layers",
     "forcible_layers_naive",
     "bfa",
+    "bfa_naive",
     "as_states",
     "as_single_state",
 ]
@@ -391,6 +392,34 @@ def forcible_layers_naive(
             return layers
         W |= new
         layers.append(new)
+
+
+def bfa_naive(g: Generator, source: int, target: Iterable[int], semantics: str = "preemptive") -> list[set[int]]:
+    """Explicit twin of :func:`bfa`: the layers ``L(0) … L(rank(source))`` restricted to
+    the states reachable from ``source`` by allowed rank-decreasing steps (``[]`` when
+    ``source`` is not forcible)."""
+    full = forcible_layers_naive(g, target, semantics)
+    top = rank_naive(full, source)
+    if top is None:
+        return []
+    seen, stack = {source}, [source]
+    while stack:
+        q = stack.pop()
+        k = rank_naive(full, q)
+        if k == 0:
+            continue
+        out = g.enabled(q)
+        env = semantics == "preemptive" and any(not g.events[e].controllable for e in out)
+        for e, d in out.items():
+            if g.events[e].controllable:
+                j = rank_naive(full, d)
+                ok = not env and j is not None and j < k  # a forced rank-decreasing step
+            else:
+                ok = env or semantics == "standard"  # the environment may move (into W(k-1))
+            if ok and d not in seen:
+                seen.add(d)
+                stack.append(d)
+    return [layer & seen for layer in full[: top + 1]]
 
 
 def rank_naive(layers: Sequence[set[int]], q: int) -> int | None:

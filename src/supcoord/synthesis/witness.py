@@ -40,7 +40,7 @@ from ..errors import InputError, ModelError
 from ..symbolic.context import BDD
 from .forcibility import Layers, as_single_state, rank_naive
 
-__all__ = ["witness", "forcing_paths", "strategy", "witness_naive", "forcing_paths_naive", "ENV_CHOICES"]
+__all__ = ["witness", "forcing_paths", "strategy", "witness_naive", "forcing_paths_naive", "strategy_naive", "ENV_CHOICES"]
 
 ENV_CHOICES = ("smallest", "largest", "worst")
 
@@ -245,3 +245,22 @@ def forcing_paths_naive(g: Generator, layers: Sequence[set[int]], source: int, s
 
     walk(source, k0, [])
     return sorted(out, key=lambda p: (len(p), [event_key(e) for e in p]))
+
+
+def strategy_naive(g: Generator, layers: Sequence[set[int]], semantics: str = "preemptive") -> list[dict[str, set[int]]]:
+    """Explicit twin of :func:`strategy`: ``result[k][c]`` = the states of ``L(k)`` where the
+    controller acts and ``δ(q, c) ∈ W(k-1)``; empty sets left out."""
+    out: list[dict[str, set[int]]] = [{}]
+    below: set[int] = set()
+    for k in range(1, len(layers)):
+        below |= layers[k - 1]
+        moves: dict[str, set[int]] = {}
+        for q in layers[k]:
+            enabled = g.enabled(q)
+            if semantics == "preemptive" and any(not g.events[e].controllable for e in enabled):
+                continue  # the environment acts here
+            for c, d in enabled.items():
+                if g.events[c].controllable and d in below:
+                    moves.setdefault(c, set()).add(q)
+        out.append(dict(sorted(moves.items(), key=lambda kv: event_key(kv[0]))))
+    return out
