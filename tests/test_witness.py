@@ -134,6 +134,13 @@ def test_witness_on_a_product_and_from_component_states():
     lay = forcible_layers(P, P.marked)
     assert lay.sizes() == [1, 3, 6, 7, 6, 3, 1]
     assert witness(P, lay) == ["c0", "c0", "c1", "c1", "c2", "c2"]
+    # witness extraction stays symbolic: no state of a layer is enumerated or counted
+    def refuse(*args, **kwargs):
+        raise AssertionError("a layer was enumerated or counted")
+
+    ctx.enumerate = ctx.count = refuse
+    assert witness(P, lay) == ["c0", "c0", "c1", "c1", "c2", "c2"]
+    del ctx.enumerate, ctx.count
     src = [{"k0": 1}, {"k1": 2}, {"k2": 0}]
     assert lay.rank(src) == 3
     assert witness(P, lay, src) == ["c0", "c2", "c2"]
