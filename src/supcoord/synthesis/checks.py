@@ -7,9 +7,10 @@
   i.e. ``L(K) Σu ∩ L(G) ⊆ L(K)`` on the accessible part.
 - ``G`` is **nonblocking** iff ``Reach(G) ⊆ CoReach(Qm)``.
 - ``G`` is **deterministic** iff no state has two successors on one event:
-  ``¬∃ σ, x, y ≠ y'. R_σ(x, y) ∧ R_σ(x, y')`` — checked bit by bit: two successors
-  exist iff for some written bit ``b`` both ``∃ (bits after b). R_σ ∧ b'`` and
-  ``∃ (bits after b). R_σ ∧ ¬b'`` hold for one ``x`` and one prefix of bits before ``b``.
+  ``¬∃ σ, x, y ≠ y'. R_σ(x, y) ∧ R_σ(x, y')``, i.e. iff ``|R_σ| = |∃x'_W. R_σ|`` for
+  every ``σ`` (two exact counts); where it fails, a witness is found bit by bit: two
+  successors exist iff for some written bit ``b`` both ``∃ (bits after b). R_σ ∧ b'``
+  and ``∃ (bits after b). R_σ ∧ ¬b'`` hold for one ``x`` and one prefix of bits before ``b``.
 
 A symbolic ``K`` may share variables with ``G`` (a supervisor returned by
 :func:`~supcoord.synthesis.supcon` contains ``G``'s variables): shared variables are
@@ -105,12 +106,18 @@ def nondeterminism(G: SymbolicGenerator) -> tuple[str, dict[str, int]] | None:
     ctx = G.ctx
     if G.variables and ctx.count(G.init & G.invariant, G.variables) > 1:
         return ("<init>", G.pick(G.init))
+    primed_inv: dict[tuple[str, ...], object] = {}
     for name, r in G.events.items():
         if not r.writes:
             continue  # the frame alone: at most one successor
+        if r.writes not in primed_inv:
+            primed_inv[r.writes] = ctx.prime(G.invariant, r.writes)
         # transitions whose source and target satisfy the invariant
-        rel = r.relation & G.invariant & ctx.prime(G.invariant, r.writes)
+        rel = r.relation & G.invariant & primed_inv[r.writes]
         pbits = ctx.bits(r.writes, primed=True)
+        # deterministic iff |R| = |∃x'_W. R| (each source has one target): two exact counts
+        if ctx.count(rel, G.variables, r.writes) == ctx.count(ctx.bdd.exist(pbits, rel), G.variables):
+            continue
         for i, b in enumerate(pbits):
             later = pbits[i:]
             v = ctx.bdd.var(b)
