@@ -297,3 +297,28 @@ def test_a_cascade_of_removals_needs_a_second_pass():
     for method in METHODS:
         result = supcon(from_explicit(ctx, G), from_explicit(ctx, E), method=method)
         assert to_explicit(result.supervisor).same_as(expected) and result.stats["iterations"] == 2
+
+
+@settings(max_examples=100)
+@given(st.integers(2, 6), st.lists(st.tuples(st.integers(0, 5), st.integers(0, 5)), max_size=12))
+def test_nondeterminism_found_exactly(n, pairs):
+    """A hand-made relation over one variable ``x ∈ 0..n-1``: reported nondeterministic
+    iff some source has two targets inside the domain, and the reported state has two."""
+    ctx = Context()
+    ctx.add_variable("x", n)
+    rel = ctx.false
+    for a, b in pairs:
+        if a < n and b < n:
+            rel |= ctx.eq("x", a) & ctx.eq("x", b, primed=True)
+    G = SymbolicGenerator(ctx, "R", ("x",), {"a": EventRelation(Event("a", True), rel, ("x",))}, ctx.eq("x", 0),
+                          ctx.true, ctx.domain(["x"]))
+    targets: dict[int, set[int]] = {}
+    for a, b in pairs:
+        if a < n and b < n:
+            targets.setdefault(a, set()).add(b)
+    found = raised(NondeterminismError, check_deterministic, G) if any(len(t) > 1 for t in targets.values()) else None
+    if found is None:
+        check_deterministic(G)
+    else:
+        event, state = found.value
+        assert event == "a" and len(targets[state["x"]]) > 1
