@@ -105,7 +105,7 @@ def test_strip_is_a_grid_of_readable_panels(tmp_path, three):
     out = save_plan_strip(three, _valid_plan(three), tmp_path / "strip.png", max_frames=8)
     w, h = Image.open(out).size
     assert 1.0 < w / h < 3.5  # two rows of four, not one unreadable ribbon
-    bad = save_plan_strip(three, _colliding_plan(three), tmp_path / "bad.png", max_frames=19)
+    bad = save_plan_strip(three, _colliding_plan(three), tmp_path / "bad.png", max_frames=10)
     assert _red(Image.open(bad)) > _red(Image.open(out)) + 200
 
 
