@@ -143,3 +143,14 @@ def test_examples_parse_and_solve(tmp_path, path):
         assert code == 0 and result["valid"] and result["at_target"] == problem.n
     else:
         assert "positioners" in plan["reason"] and plan["stats"]["certificate"]
+
+
+def test_an_unknown_plan_exits_3(tmp_path, monkeypatch):
+    # a planner that answers "unknown" as a plan (instead of raising) still exits 3 (formats.md)
+    from supcoord.positioners import Plan, planner
+
+    monkeypatch.setattr(planner, "solve", lambda problem, **kw: Plan("unknown", [], reason="out of time"))
+    code, out, err = run("solve", _write(tmp_path, "p.json", THREE), "--json")
+    assert code == 3 and json.loads(out)["status"] == "unknown"
+    code, out, err = run("solve", _write(tmp_path, "p.json", THREE))
+    assert code == 3 and out.startswith("UNKNOWN: out of time")

@@ -100,9 +100,10 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
                 f"{s.get('single_moves')} single moves, {s.get('windows')} symbolic solve(s), "
                 f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
     else:
-        text = f"INFEASIBLE: {plan.reason}"
+        text = f"{plan.status.upper()}: {plan.reason}"
     if args.out:
         text += f"\nplan written to {args.out}"
     if args.figure:
         text += f"\nfigure written to {args.figure}"
-    return CommandResult(payload=plan.to_json(kin), text=text)
+    # formats.md: "unknown" (a budget ran out) exits 3, also when the planner returns it as a plan
+    return CommandResult(payload=plan.to_json(kin), text=text, exit_code=3 if plan.status == "unknown" else 0)
