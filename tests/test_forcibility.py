@@ -1,6 +1,8 @@
 """Forcibility layers: symbolic fixpoint vs the explicit twin, BFA, CCC, and the two
 cautionary examples of design.md (decomposition; the literal paper model)."""
 
+from collections import Counter
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -33,9 +35,36 @@ def target_bdd(G, target):
 
 @st.composite
 def generator_and_target(draw, max_states=6):
-    g = draw(generators(draw(alphabets()), max_states))
-    target = draw(st.sets(st.integers(0, g.n_states - 1), max_size=g.n_states))
+    """A connected generator (every state reachable from 0) over both kinds of events and
+    a nonempty target of at most half its states: layers several deep are common
+    (``test_random_cases_have_deep_layers`` checks it)."""
+    density = draw(st.sampled_from([0.4, 0.6, 0.8]))
+    g = draw(generators(draw(alphabets(mixed=True)), max_states, density=density, min_states=2, connected=True))
+    target = draw(st.sets(st.integers(0, g.n_states - 1), min_size=1, max_size=max(1, g.n_states // 2)))
     return g, sorted(target)
+
+
+def test_random_cases_have_deep_layers():
+    """The random instances the layer tests run on are not trivial: for a good share of
+    them a state is won in two or more steps, and states where the environment acts are
+    won (the cases where the two semantics differ)."""
+    seen: Counter = Counter()
+
+    @given(generator_and_target())
+    def count(gt):
+        g, target = gt
+        seen["cases"] += 1
+        for semantics in SEMANTICS:
+            layers = forcible_layers_naive(g, target, semantics)
+            seen[semantics, "deep"] += len(layers) >= 3
+            seen[semantics, "env"] += any(any(not g.events[e].controllable for e in g.enabled(q))
+                                          for layer in layers[1:] for q in layer)
+
+    count()
+    n = seen["cases"]
+    assert n >= 20, seen
+    assert seen["preemptive", "deep"] >= n // 20 and seen["standard", "deep"] >= n // 40, seen
+    assert seen["preemptive", "env"] >= n // 10, seen
 
 
 @given(generator_and_target(), st.sampled_from(SEMANTICS))
@@ -63,9 +92,9 @@ def test_within_equals_naive(gt, semantics, data):
 
 @st.composite
 def products(draw):
-    alphabet = draw(alphabets())
+    alphabet = draw(alphabets(mixed=True))
     k = draw(st.integers(2, 3))
-    return [draw(generators(alphabet, 3, f"G{i}")) for i in range(k)]
+    return [draw(generators(alphabet, 3, f"G{i}", min_states=2, connected=True, min_marked=1)) for i in range(k)]
 
 
 @given(products(), st.sampled_from(SEMANTICS))

@@ -26,7 +26,8 @@ def has_u(g, q):
 
 @st.composite
 def instance(draw, max_states=6):
-    g = draw(generators(draw(alphabets()), max_states, density=draw(st.sampled_from([0.5, 0.8]))))
+    g = draw(generators(draw(alphabets(mixed=True)), max_states, density=draw(st.sampled_from([0.4, 0.6, 0.8])),
+                        min_states=2, connected=True))
     target = draw(st.sets(st.integers(0, g.n_states - 1), min_size=1, max_size=max(1, g.n_states // 2)))
     source = draw(st.integers(0, g.n_states - 1))
     return g, sorted(target), source
