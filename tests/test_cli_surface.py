@@ -24,6 +24,7 @@ import copy
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -83,9 +84,8 @@ def one_error_line(code: int, out: str, err: str, what: str = "") -> str:
 
 
 def need(command: str) -> None:
-    """Skip (visibly, with the reason in -ra output) a command not registered yet."""
-    if command not in COMMANDS:
-        pytest.skip(f"'supcoord {command}' is not registered in supcoord.cli.main yet")
+    """Fail (not skip) when a command of the contract is not registered."""
+    assert command in COMMANDS, f"'supcoord {command}' is not registered in supcoord.cli.main"
 
 
 # -- fixtures: small valid inputs for every command ------------------------------------
@@ -224,13 +224,36 @@ def test_json_is_exactly_one_object(command, tmp_path):
     assert not missing, f"'supcoord {command} --json' lacks keys {sorted(missing)}"
 
 
+def fixpoint_invocation(command: str, tmp: Path) -> list[str]:
+    """A valid invocation that surely runs a symbolic fixpoint (``solve``'s local route
+    may answer a small problem without one, so ``solve`` takes the monolithic route)."""
+    argv = invocation(command, tmp)
+    if command == "paper":
+        argv += ["--route", "monolithic"]
+    if command == "solve":
+        argv += ["--route", "monolithic"]
+    return argv
+
+
 @pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
 def test_verbose_progress_goes_to_stderr_not_stdout(command, tmp_path):
     need(command)
-    code, out, err = run(*invocation(command, tmp_path), "--verbose")
+    code, out, err = run(*fixpoint_invocation(command, tmp_path), "--verbose")
     assert code == 0
     one_json_object(out)
-    assert err.strip(), f"'supcoord {command} --verbose' reports no progress on stderr"
+    lines = err.strip().splitlines()
+    assert lines, f"'supcoord {command} --verbose' reports no progress on stderr"
+    # the log's format: [m:ss] stage | iteration k | N nodes ...
+    assert all(re.match(r"\[\d+:\d\d\] \w+( #\d+)? \| (iteration|layer) \d+ \| [\d,]+ nodes", ln) for ln in lines), lines
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
+def test_quiet_and_plain_runs_write_nothing_on_stderr(command, tmp_path):
+    """Without a terminal and without --verbose there is no progress; --quiet too."""
+    need(command)
+    for extra in ([], ["--quiet"]):
+        code, out, err = run(*fixpoint_invocation(command, tmp_path), *extra)
+        assert code == 0 and err == "", f"supcoord {command} {extra}: stderr {err!r}"
 
 
 def test_text_report_without_json(tmp_path):
@@ -251,14 +274,123 @@ def test_solve_then_check(tmp_path):
 # -- budgets: exit 3 with status unknown ------------------------------------------------
 
 
+@pytest.mark.parametrize("budget", [["--max-nodes", "1"], ["--timeout", "1e-9"]], ids=["max-nodes", "timeout"])
 @pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
-def test_node_budget_exits_3_with_partial_statistics(command, tmp_path):
+def test_budget_exits_3_with_partial_statistics(command, budget, tmp_path):
     need(command)
-    code, out, err = run(*invocation(command, tmp_path), "--max-nodes", "1")
-    assert code == 3, f"'supcoord {command} --max-nodes 1' exited {code}: {err}"
+    code, out, err = run(*fixpoint_invocation(command, tmp_path), *budget)
+    assert code == 3, f"'supcoord {command} {' '.join(budget)}' exited {code}: {err}"
     obj = one_json_object(out)
-    assert obj["status"] == "unknown" and isinstance(obj.get("stats"), dict)
-    assert "Traceback" not in err
+    assert obj["status"] == "unknown" and obj["command"] == command, obj
+    stats = obj["stats"]
+    assert {"stage", "bdd_nodes", "seconds", "iteration"} <= set(stats), stats
+    assert stats["bdd_nodes"] > 0 and stats["seconds"] >= 0
+    assert ("node budget" if budget[0] == "--max-nodes" else "time budget") in obj["reason"]
+    # one line on stderr, saying what stopped and what was learned
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("supcoord: stopped: ") and "so far:" in lines[0], err
+
+
+@pytest.mark.parametrize("command", ["paper", "supcon"])
+def test_budget_without_json_still_exits_3_and_prints_nothing_on_stdout(command, tmp_path):
+    argv = [a for a in fixpoint_invocation(command, tmp_path) if a != "--json"]
+    code, out, err = run(*argv, "--max-nodes", "1", "--quiet")
+    assert code == 3 and out == "" and err.startswith("supcoord: stopped: node budget exceeded"), (code, out, err)
+
+
+def test_default_node_budget_comes_from_available_memory(tmp_path):
+    from supcoord.cli import common
+
+    mem = common.available_memory()
+    assert mem is not None and mem > 0, "/proc/meminfo has no MemAvailable"
+    expected = int(mem * common.MEMORY_SHARE / common.BYTES_PER_NODE)
+    budget = common.budget_from_args(argparse.Namespace(max_nodes=None, timeout=None))
+    assert abs(budget.max_nodes - expected) <= expected // 10  # MemAvailable moves a little meanwhile
+    assert common.budget_from_args(argparse.Namespace(max_nodes=5, timeout=None)).max_nodes == 5
+
+
+def test_the_default_node_budget_is_named_when_it_stops_a_run(tmp_path, monkeypatch):
+    from supcoord.cli import common
+
+    monkeypatch.setattr(common, "default_max_nodes", lambda: 1)
+    code, out, err = run(*fixpoint_invocation("supcon", tmp_path))
+    assert code == 3 and "default node budget" in one_json_object(out)["reason"] and "--max-nodes" in err
+
+
+def test_cudd_out_of_memory_is_exit_3_not_a_traceback(tmp_path, monkeypatch):
+    """What dd raises when CUDD's hard memory limit is hit (measured: ValueError from a
+    constructor, RuntimeError from an operator) ends the run like a budget."""
+    from supcoord.cli import cmd_supcon
+
+    for exc in (RuntimeError("CUDD appears to have run out of memory.\nCurrent settings ..."),
+                ValueError("`DdNode *node` is `NULL` pointer."), MemoryError()):
+        def boom(args, console, exc=exc):
+            raise exc
+        monkeypatch.setattr(cmd_supcon, "run", boom)
+        code, out, err = run(*invocation("supcon", tmp_path))
+        assert code == 3 and one_json_object(out)["status"] == "unknown", (exc, code, err)
+        assert "out of memory" in err and "Traceback" not in err
+
+
+def test_other_exceptions_are_bugs_not_user_errors(tmp_path, monkeypatch):
+    from supcoord.cli import cmd_supcon
+
+    monkeypatch.setattr(cmd_supcon, "run", lambda args, console: 1 / 0)
+    with pytest.raises(AssertionError, match="ZeroDivisionError"):
+        run(*invocation("supcon", tmp_path))
+
+
+def test_a_broken_pipe_is_not_a_traceback(tmp_path):
+    """``supcoord … --json | head -c 1``: the reader leaves before the output is written."""
+    argv = [sys.executable, "-m", "supcoord.cli", *map(str, invocation("paper", tmp_path))]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # nobody reads
+    err = proc.stderr.read().decode()
+    proc.wait(timeout=120)
+    assert "Traceback" not in err and proc.returncode == 141, (proc.returncode, err)
+
+
+# -- progress on a terminal ---------------------------------------------------------------
+
+
+def run_on_a_terminal(argv: list[str]) -> tuple[int, str, bytes]:
+    """Run the console script with stderr on a fresh pseudo-terminal (whose size is
+    0 × 0, as under ``script`` or some CI runners): ``(status, stdout, terminal bytes)``."""
+    import pty
+
+    controller, terminal = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "supcoord.cli", *map(str, argv)], stdout=subprocess.PIPE,
+                            stderr=terminal, stdin=subprocess.DEVNULL)
+    os.close(terminal)
+    seen = b""
+    while True:
+        try:
+            chunk = os.read(controller, 4096)
+        except OSError:  # the process closed the terminal
+            break
+        if not chunk:
+            break
+        seen += chunk
+    out = proc.stdout.read().decode()
+    proc.wait(timeout=120)
+    os.close(controller)
+    return proc.returncode, out, seen
+
+
+def test_a_terminal_gets_a_live_status_line_that_is_erased(tmp_path):
+    code, out, seen = run_on_a_terminal(fixpoint_invocation("paper", tmp_path))
+    assert code == 0
+    one_json_object(out)
+    text = seen.decode()
+    assert re.search(r"reachable \| iteration \d+ \| [\d,]+ nodes .*\| \d+:\d\d", text), text
+    assert "force | layer" in text, text
+    assert text.rstrip(" ").endswith("\r") and "\n" not in text.replace("\r\n", ""), repr(text[-200:])
+
+
+def test_a_terminal_gets_nothing_with_quiet(tmp_path):
+    code, out, seen = run_on_a_terminal([*fixpoint_invocation("paper", tmp_path), "--quiet"])
+    assert code == 0 and seen == b"", seen
+    one_json_object(out)
 
 
 # -- user errors: exit 2, one line ---------------------------------------------------

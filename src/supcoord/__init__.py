@@ -48,11 +48,13 @@ the paper's model  :func:`paper_example`, :func:`random_instance`,
                    :class:`CoupledModel`, :class:`Geometry`,
                    :func:`coupled_models`, :func:`event_label`,
                    :func:`decode_label`, :func:`describe`, :func:`run_demo`,
-                   :func:`solve_paper`
+                   :func:`solve_paper`, :func:`run_paper`, :class:`PaperRun`
 geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`,
                    :func:`random_problem`, :func:`preset_problem`,
                    :data:`PRESETS`, :class:`Plan`, :func:`load_plan`,
                    :func:`plan_from_moves`, :func:`validate_plan`
+progress           :func:`progress_bar`, :class:`ProgressBar`,
+                   :class:`ProgressLog` (``progress=`` callbacks)
 figures            :func:`plot_problem`, :func:`save_plan_strip`,
                    :func:`save_plan_gif` (these import matplotlib)
 errors             :class:`SupcoordError` and its subclasses
@@ -124,7 +126,9 @@ _LAZY: dict[str, str] = {
     "coupled_models": "supcoord.positioners.coupled",
     "describe": "supcoord.positioners.demo",
     "run_demo": "supcoord.positioners.demo",
-    "solve_paper": "supcoord.cli.cmd_paper",
+    "solve_paper": "supcoord.positioners.paper_solve",
+    "run_paper": "supcoord.positioners.paper_solve",
+    "PaperRun": "supcoord.positioners.paper_solve",
     # geometric coordination problems
     "Problem": "supcoord.positioners.problem",
     "load_problem": "supcoord.positioners.problem",
@@ -136,6 +140,10 @@ _LAZY: dict[str, str] = {
     "load_plan": "supcoord.positioners.plan",
     "plan_from_moves": "supcoord.positioners.plan",
     "validate_plan": "supcoord.positioners.validate",
+    # progress of long fixpoints
+    "progress_bar": "supcoord.progress",
+    "ProgressBar": "supcoord.progress",
+    "ProgressLog": "supcoord.progress",
     # figures (matplotlib, Agg backend)
     "plot_problem": "supcoord.positioners.figures",
     "save_plan_strip": "supcoord.positioners.figures",
@@ -227,7 +235,6 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
-    from .cli.cmd_paper import solve_paper
     from .des.generator import Event, Generator, tct_event
     from .des.io import read_generator, write_generator
     from .des.io_dot import to_dot
@@ -243,11 +250,13 @@ if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
         paper_example,
         random_instance,
     )
+    from .positioners.paper_solve import PaperRun, run_paper, solve_paper
     from .positioners.plan import Plan, load_plan, plan_from_moves
     from .positioners.presets import PRESETS, preset_problem
     from .positioners.problem import Problem, load_problem, parse_problem
     from .positioners.random_problems import random_problem
     from .positioners.validate import validate_plan
+    from .progress import ProgressBar, ProgressLog, progress_bar
     from .symbolic.context import Budget, Context
     from .synthesis.ccc import CCCResult, ccc
     from .synthesis.checks import is_controllable, is_nonblocking

@@ -6,6 +6,7 @@ import argparse
 import dataclasses
 import math
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -29,21 +30,57 @@ def add_common_options(p: argparse.ArgumentParser, *, budgets: bool = True) -> N
     """``--json``, ``--quiet``/``--verbose`` and (for long runs) ``--max-nodes``/``--timeout``."""
     p.add_argument("--json", action="store_true", help="print exactly one JSON object on stdout")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("-q", "--quiet", action="store_true", help="no progress or log output on stderr")
-    g.add_argument("-v", "--verbose", action="store_true", help="log each fixpoint iteration on stderr")
+    g.add_argument("-q", "--quiet", action="store_true", help="no progress bar or log on stderr (errors still)")
+    g.add_argument("-v", "--verbose", action="count", default=0,
+                   help="log fixpoint progress on stderr (stage start/end, every 2 s); -vv: every iteration")
     if budgets:
-        p.add_argument("--max-nodes", type=int, metavar="N", help="stop cleanly (exit 3) beyond N live BDD nodes")
+        p.add_argument("--max-nodes", type=int, metavar="N",
+                       help="stop cleanly (exit 3) beyond N live BDD nodes (default: what fits in 80%% of "
+                            "the memory available at start, at 80 bytes per node)")
         p.add_argument("--timeout", type=float, metavar="SECONDS", help="stop cleanly (exit 3) after SECONDS")
         p.add_argument("--backend", choices=["auto", "cudd", "autoref"], default="auto", help="BDD backend (default: CUDD if available)")
 
 
+#: bytes of memory per live BDD node assumed by the default node budget: measured 78 B
+#: per node (peak RSS / live nodes) at 12.6 million nodes with CUDD through dd, node,
+#: unique-table and computed-table growth included (docs/cli.md, "Budgets")
+BYTES_PER_NODE = 80
+#: share of the memory available at start that the default node budget may fill
+MEMORY_SHARE = 0.8
+
+
+def available_memory() -> int | None:
+    """``MemAvailable`` of ``/proc/meminfo`` in bytes (None where there is none)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def default_max_nodes() -> int | None:
+    """The node budget when ``--max-nodes`` is not given: what fits in 80 % of the memory
+    available at start, so a run that would be killed by the kernel's out-of-memory
+    killer (no JSON, exit 137) stops at a fixpoint iteration with exit 3 instead."""
+    mem = available_memory()
+    return None if mem is None else max(1, int(mem * MEMORY_SHARE / BYTES_PER_NODE))
+
+
 def budget_from_args(args: argparse.Namespace) -> Budget:
+    """The :class:`Budget` of ``--max-nodes``/``--timeout`` (default node budget:
+    :func:`default_max_nodes`); bad values are a one-line user error."""
     max_nodes = getattr(args, "max_nodes", None)
     timeout = getattr(args, "timeout", None)
     if max_nodes is not None and max_nodes <= 0:
-        raise InputError(f"--max-nodes must be positive, got {max_nodes}", value=max_nodes)
-    if timeout is not None and not timeout > 0:
-        raise InputError(f"--timeout must be positive, got {timeout}", value=timeout)
+        raise InputError(f"--max-nodes must be positive, got {max_nodes}", value=max_nodes, where="--max-nodes")
+    if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
+        raise InputError(f"--timeout must be a positive number of seconds, got {timeout}", value=timeout,
+                         where="--timeout")
+    if max_nodes is None:
+        max_nodes = default_max_nodes()
     return Budget(max_nodes=max_nodes, timeout=timeout)
 
 
@@ -58,54 +95,90 @@ class Console:
     """Progress and logs on standard error (never stdout, which carries the JSON).
 
     ``progress(stage, info)`` is the callback the library's fixpoints call through
-    :meth:`supcoord.symbolic.Context.check_budget`; it drives one tqdm bar per stage.
+    :meth:`supcoord.symbolic.Context.check_budget`:
+
+    - on a terminal, one live status line (:class:`supcoord.progress.ProgressBar`:
+      stage, iteration or layer, live and peak BDD nodes, elapsed time), erased when
+      the command ends, so the report or JSON follows on a clean screen;
+    - ``--verbose`` adds a log line (:class:`supcoord.progress.ProgressLog`) when a
+      stage starts and ends and at most every 2 s in between; ``-vv`` logs every
+      iteration.  Without a terminal (pipes, CI, files) only the log is written, and
+      only with ``--verbose``;
+    - ``--quiet``: nothing but the one error line of a failure.
     """
 
-    def __init__(self, quiet: bool = False, verbose: bool = False):
+    def __init__(self, quiet: bool = False, verbose: int | bool = False, *, stream: Any = None,
+                 tty: bool | None = None):
         self.quiet = quiet
-        self.verbose = verbose
-        self._bar = None
-        self._stage: str | None = None
+        self.verbose = int(verbose)
+        self._stream = stream
+        self.tty = tty
+        self._bar: Any = None
+        self._log: Any = None
+        self.started = time.perf_counter()
+
+    @property
+    def stream(self) -> Any:
+        return self._stream if self._stream is not None else sys.stderr
+
+    def _is_tty(self) -> bool:
+        if self.tty is not None:
+            return self.tty
+        try:
+            return bool(self.stream.isatty())
+        except (AttributeError, ValueError):
+            return False
 
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> "Console":
-        return cls(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
+        return cls(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", 0) or 0)
+
+    def _print(self, message: str) -> None:
+        if self._bar is not None:
+            self._bar.write(message)
+        else:
+            print(message, file=self.stream, flush=True)
 
     def log(self, message: str) -> None:
+        """An informational line (not with ``--quiet``)."""
         if not self.quiet:
-            self._clear()
-            print(message, file=sys.stderr)
+            self._print(message)
 
     def error(self, message: str) -> None:
-        self._clear()
-        print(f"supcoord: error: {message}", file=sys.stderr)
+        """The one line of a failure: ``supcoord: error: …`` (also with ``--quiet``)."""
+        self.close()
+        print(f"supcoord: error: {message}", file=self.stream, flush=True)
+
+    def stopped(self, message: str) -> None:
+        """The one line of a budget that ran out: ``supcoord: stopped: …``."""
+        self.close()
+        print(f"supcoord: stopped: {message}", file=self.stream, flush=True)
 
     def progress(self, stage: str, info: Mapping[str, Any]) -> None:
         if self.quiet:
             return
         if self.verbose:
-            details = " ".join(f"{k}={v}" for k, v in info.items())
-            print(f"[{stage}] {details}", file=sys.stderr)
-            return
-        if not sys.stderr.isatty():
-            return
-        from tqdm import tqdm
+            if self._log is None:
+                from ..progress import ProgressLog
 
-        if stage != self._stage:
-            self._clear()
-            self._bar = tqdm(desc=stage, unit="it", file=sys.stderr, leave=False)
-            self._stage = stage
-        self._bar.update(1)
-        self._bar.set_postfix({k: v for k, v in info.items()}, refresh=False)
+                self._log = ProgressLog(interval=0 if self.verbose > 1 else 2.0, write=self._print,
+                                        started=self.started)
+            self._log(stage, info)
+        if self._is_tty():
+            if self._bar is None:
+                from ..progress import ProgressBar
 
-    def _clear(self) -> None:
+                self._bar = ProgressBar(file=self.stream, auto=False, leave=False, started=self.started)
+            self._bar(stage, info)
+
+    def close(self) -> None:
+        """Flush the log's last line and erase the status line."""
+        if self._log is not None:
+            self._log.close()
+            self._log = None
         if self._bar is not None:
             self._bar.close()
             self._bar = None
-            self._stage = None
-
-    def close(self) -> None:
-        self._clear()
 
 
 def to_jsonable(obj: Any) -> Any:

@@ -64,24 +64,70 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         result: CommandResult = args.func(args, console)
     except BudgetExceeded as exc:
-        payload = {"status": "unknown", "reason": exc.one_line(), "stats": to_jsonable(exc.stats)}
-        console.error(exc.one_line())
-        if args.json:
-            print(json.dumps(to_jsonable(payload)))
-        return 3
+        reason = exc.one_line()
+        if reason.startswith("node budget") and getattr(args, "max_nodes", None) is None:
+            reason += " (the default node budget, from the memory available; set it with --max-nodes)"
+        return _stopped(args, console, reason, exc.stats)
     except SupcoordError as exc:
         console.error(exc.one_line())
         return 2
+    except (RuntimeError, ValueError, MemoryError) as exc:
+        if not _out_of_memory(exc):
+            raise
+        return _stopped(args, console, f"out of memory in a BDD operation: {_first_line(exc)}",
+                        {"stage": "memory"})
     except KeyboardInterrupt:
         console.error("interrupted")
         return 130
     finally:
         console.close()
-    if args.json:
-        print(json.dumps(to_jsonable(result.payload)))
-    elif result.text:
-        print(result.text)
+    try:
+        if args.json:
+            print(json.dumps(to_jsonable(result.payload)), flush=True)
+        elif result.text:
+            print(result.text, flush=True)
+    except BrokenPipeError:  # `supcoord … | head`: the reader left; no traceback
+        _silence_stdout()
+        return 141
     return result.exit_code
+
+
+def _silence_stdout() -> None:
+    """After a broken pipe, point stdout at /dev/null so that the interpreter's final
+    flush does not raise again (the recipe of Python's signal documentation)."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # not a real file (tests): nothing to do
+        pass
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
+def _out_of_memory(exc: BaseException) -> bool:
+    """CUDD's allocation failures as dd reports them (``RuntimeError('CUDD appears to have
+    run out of memory …')`` from operators, ``ValueError('`DdNode *node` is `NULL`
+    pointer.')`` from constructors), and Python's own :class:`MemoryError`."""
+    if isinstance(exc, MemoryError):
+        return True
+    text = str(exc)
+    return "run out of memory" in text or "out of memory" in text.lower() or "`NULL` pointer" in text
+
+
+def _stopped(args: argparse.Namespace, console: Console, reason: str, stats: dict) -> int:
+    """A budget ran out: exit 3, ``"status": "unknown"`` with the statistics so far."""
+    stats = {k: round(v, 4) if isinstance(v, float) else v for k, v in to_jsonable(stats).items()}
+    shown = ", ".join(f"{k} {v}" for k, v in stats.items() if k != "stage" and not isinstance(v, (dict, list)))
+    console.stopped(reason + (f" (so far: {shown})" if shown else ""))
+    if args.json:
+        print(json.dumps({"status": "unknown", "command": args.command, "reason": reason, "stats": stats}))
+    return 3
+
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

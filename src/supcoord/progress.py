@@ -1,0 +1,271 @@
+"""Progress of long fixpoints: a live status line, a throttled log, or your own callback.
+
+Every fixpoint of the library calls ``ctx.check_budget(stage, iteration=…, …)`` once
+per iteration (:meth:`supcoord.symbolic.Context.check_budget`), which passes
+``(stage, info)`` to the context's ``progress`` callback; ``info`` always holds
+``nodes`` (live BDD nodes in the manager) and ``iteration``, plus what the fixpoint
+knows (``method``, ``z_nodes``, ``layer_nodes``, ``members``).  The stages are
+``reachable``, ``coreachable``, ``supcon``, ``force`` and the planner's ``layers``.
+
+This module turns those calls into something a person can read:
+
+- :class:`ProgressBar` — one status line (tqdm; a widget-free line in Jupyter too)::
+
+      coreachable #3 | iteration 130 | 30,019 nodes (peak 33,112) | saturation | 0:12
+
+  ``#3`` counts how often the stage started again (a fixpoint called repeatedly, e.g.
+  supcon's inner reachability or the planner's windows), ``peak`` is the largest
+  node count seen since the bar was made, and the clock is the time since then.
+- :class:`ProgressLog` — the same text as lines, at the start and end of each run of
+  a stage and at most once per ``interval`` seconds in between (``interval=0``: every
+  iteration); for logs, CI and files.
+- :func:`progress_bar` — the helper for notebooks and scripts.
+
+>>> import io, supcoord as sc
+>>> log = sc.ProgressLog(io.StringIO(), interval=0)
+>>> log("supcon", {"nodes": 1200, "iteration": 1, "z_nodes": 300})
+>>> log("supcon", {"nodes": 1500, "iteration": 2, "z_nodes": 280})
+>>> print(log.file.getvalue().replace("0:00", "T"), end="")
+[T] supcon | iteration 1 | 1,200 nodes | z_nodes 300
+[T] supcon | iteration 2 | 1,500 nodes | z_nodes 280
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+import warnings
+from typing import IO, Any, Mapping
+
+__all__ = ["format_progress", "format_elapsed", "ProgressBar", "ProgressLog", "progress_bar"]
+
+#: the keys shown in a fixed place; any other key is shown as ``key value`` after them
+_PLACED = ("nodes", "iteration", "method")
+
+
+def format_elapsed(seconds: float) -> str:
+    """``m:ss`` (``h:mm:ss`` past an hour), as tqdm shows time.
+
+    >>> format_elapsed(75.4), format_elapsed(3725)
+    ('1:15', '1:02:05')
+    """
+    s = int(seconds)
+    h, rest = divmod(s, 3600)
+    m, s = divmod(rest, 60)
+    return f"{h}:{m:02d}:{s:02d}" if h else f"{m}:{s:02d}"
+
+
+def _number(value: Any) -> str:
+    if isinstance(value, bool) or not isinstance(value, int):
+        return str(value)
+    return f"{value:,}"
+
+
+def format_progress(stage: str, info: Mapping[str, Any], *, run: int = 1, peak: int | None = None) -> str:
+    """One line describing a progress report: stage, run, iteration, nodes, the rest.
+
+    ``iteration`` is called ``layer`` in the ``force`` stage (each iteration adds one
+    forcibility layer).
+
+    >>> format_progress("force", {"nodes": 19137, "iteration": 4, "layer_nodes": 601}, peak=20000)
+    'force | layer 4 | 19,137 nodes (peak 20,000) | layer_nodes 601'
+    >>> format_progress("layers", {"nodes": 47133, "iteration": 0, "members": 4}, run=312)
+    'layers #312 | iteration 0 | 47,133 nodes | members 4'
+    """
+    parts = [stage if run <= 1 else f"{stage} #{run}"]
+    if "iteration" in info:
+        parts.append(f"{'layer' if stage == 'force' else 'iteration'} {_number(info['iteration'])}")
+    if "nodes" in info:
+        nodes = f"{_number(info['nodes'])} nodes"
+        if peak is not None and isinstance(info["nodes"], int) and peak > info["nodes"]:
+            nodes += f" (peak {_number(peak)})"
+        parts.append(nodes)
+    if "method" in info:
+        parts.append(str(info["method"]))
+    parts += [f"{k} {_number(v)}" for k, v in info.items() if k not in _PLACED]
+    return " | ".join(parts)
+
+
+class _Tracker:
+    """Stage, run number (restarts of a stage) and peak nodes across calls."""
+
+    def __init__(self, started: float | None = None) -> None:
+        self.started = time.perf_counter() if started is None else started
+        self.stage: str | None = None
+        self.runs: dict[str, int] = {}
+        self.last_iteration: Any = None
+        self.peak = 0
+
+    def update(self, stage: str, info: Mapping[str, Any]) -> tuple[bool, bool]:
+        """Record a report; ``(new stage, new run of the stage)``."""
+        nodes = info.get("nodes")
+        if isinstance(nodes, int):
+            self.peak = max(self.peak, nodes)
+        iteration = info.get("iteration")
+        new_stage = stage != self.stage
+        restarted = new_stage or (
+            isinstance(iteration, int) and isinstance(self.last_iteration, int) and iteration <= self.last_iteration
+        )
+        if restarted:
+            self.runs[stage] = self.runs.get(stage, 0) + 1
+        self.stage, self.last_iteration = stage, iteration
+        return new_stage, restarted
+
+    def text(self, stage: str, info: Mapping[str, Any]) -> str:
+        return format_progress(stage, info, run=self.runs.get(stage, 1), peak=self.peak or None)
+
+    def elapsed(self) -> str:
+        return format_elapsed(time.perf_counter() - self.started)
+
+
+def _screen(file: IO[str]) -> tuple[int, int]:
+    """``(columns, lines)`` of the terminal, with 100 × 24 where it reports none: the
+    pseudo-terminals of ``script`` and some CI runners say 0 × 0, and tqdm then prints
+    nothing at all (a bar at row 0 of 0 rows is "hidden")."""
+    try:
+        size = os.get_terminal_size(file.fileno())
+        columns, lines = size.columns, size.lines
+    except (AttributeError, OSError, ValueError):
+        columns = lines = 0
+    if columns <= 0:
+        try:
+            columns = int(os.environ.get("COLUMNS", "0"))
+        except ValueError:
+            columns = 0
+    return (columns if columns > 0 else 100), (lines if lines > 0 else 24)
+
+
+class ProgressBar:
+    """A ``progress`` callback drawing one live status line with tqdm.
+
+    ``auto=True`` uses ``tqdm.auto`` (a Jupyter widget where ipywidgets is installed,
+    else a text line that the notebook redraws in place).  ``leave=True`` keeps the
+    last line when closed.  Use it as a context manager, or call :meth:`close`.
+
+    >>> import io, supcoord as sc
+    >>> out = io.StringIO()
+    >>> with sc.ProgressBar(file=out, auto=False) as bar:
+    ...     ctx = sc.Context(progress=bar)
+    ...     G = sc.from_explicit(ctx, sc.Generator(2, [sc.Event("a", True)], [(0, "a", 1)], 0, [1]))
+    ...     _ = sc.reachable(G)
+    >>> "reachable | iteration 1" in out.getvalue()
+    True
+    """
+
+    def __init__(self, file: IO[str] | None = None, *, auto: bool = True, leave: bool = True,
+                 mininterval: float = 0.1, started: float | None = None):
+        self.file = file
+        self.auto = auto
+        self.leave = leave
+        self.mininterval = mininterval
+        self._tracker = _Tracker(started)
+        self._bar: Any = None
+        self._shown = 0.0
+        self._text = ""
+
+    def _make(self) -> Any:
+        if self.auto:
+            with warnings.catch_warnings():  # tqdm.auto warns when ipywidgets is missing
+                warnings.simplefilter("ignore")
+                from tqdm.auto import tqdm
+        else:
+            from tqdm import tqdm
+        file = self.file if self.file is not None else sys.stderr
+        columns, lines = _screen(file)
+        return tqdm(total=None, bar_format="{desc}", file=file, leave=self.leave, ncols=columns, nrows=lines,
+                    mininterval=self.mininterval, dynamic_ncols=False)
+
+    def __call__(self, stage: str, info: Mapping[str, Any]) -> None:
+        new_stage, _ = self._tracker.update(stage, info)
+        self._text = f"{self._tracker.text(stage, info)} | {self._tracker.elapsed()}"
+        if self._bar is None:
+            self._bar = self._make()
+        now = time.perf_counter()
+        if new_stage or now - self._shown >= self.mininterval:
+            self._bar.set_description_str(self._text[: max(self._bar.ncols - 1, 20)], refresh=True)
+            self._shown = now
+
+    def write(self, line: str) -> None:
+        """Print ``line`` above the status line (which is redrawn below it)."""
+        if self._bar is None:
+            print(line, file=self.file if self.file is not None else sys.stderr)
+        else:
+            self._bar.write(line, file=self.file if self.file is not None else sys.stderr)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            if self.leave:
+                self._bar.set_description_str(self._text[: max(self._bar.ncols - 1, 20)], refresh=True)
+            self._bar.close()
+            self._bar = None
+
+    def __enter__(self) -> "ProgressBar":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+
+class ProgressLog:
+    """A ``progress`` callback printing lines: the first and the last report of a stage
+    (until another stage reports), and in between at most one every ``interval``
+    seconds (0: every report).
+
+    ``write`` (default: print to ``file``) receives each finished line, so the log can
+    go to :mod:`logging` instead: ``ProgressLog(write=logger.info)``.
+    """
+
+    def __init__(self, file: IO[str] | None = None, *, interval: float = 2.0, write: Any = None,
+                 started: float | None = None):
+        self.file = file
+        self.interval = interval
+        self._write = write
+        self._tracker = _Tracker(started)
+        self._shown = float("-inf")
+        self._pending: str | None = None  # the last report of the current run, if not shown
+
+    def _emit(self, text: str) -> None:
+        if self._write is not None:
+            self._write(text)
+        else:
+            print(text, file=self.file if self.file is not None else sys.stderr, flush=True)
+
+    def __call__(self, stage: str, info: Mapping[str, Any]) -> None:
+        new_stage, _ = self._tracker.update(stage, info)
+        text = f"[{self._tracker.elapsed()}] {self._tracker.text(stage, info)}"
+        now = time.perf_counter()
+        if new_stage and self._pending is not None:
+            self._emit(self._pending)  # how the previous stage ended
+            self._pending = None
+        if new_stage or now - self._shown >= self.interval:
+            self._emit(text)
+            self._shown, self._pending = now, None
+        else:
+            self._pending = text
+
+    def close(self) -> None:
+        if self._pending is not None:
+            self._emit(self._pending)
+            self._pending = None
+
+    def __enter__(self) -> "ProgressLog":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+
+def progress_bar(*, leave: bool = True, file: IO[str] | None = None) -> ProgressBar:
+    """A progress callback for notebooks and scripts: pass it as ``progress=`` to
+    :class:`supcoord.Context` (or to ``solve(…, progress=…)``) and close it after.
+
+    >>> import supcoord as sc
+    >>> with sc.progress_bar() as bar:      # in Jupyter: a line under the cell, redrawn live
+    ...     ctx = sc.Context(progress=bar)
+    ...     G, E = sc.literal_models(sc.random_instance(20, 12, seed=0), ctx)
+    ...     result = sc.supcon(G, E)
+    >>> result.stats["marked"]
+    1
+    """
+    return ProgressBar(file=file, auto=True, leave=leave)
