@@ -129,6 +129,7 @@ def test_count_in_c_with_unused_declared_bits_and_primes():
     assert ctx.count(u, ["a"], ["b"]) == 3 * 290 * 2 ** 0
     assert ctx.count(u, ["a", "unused"], ["b"]) == 3 * 290 * 2**10
     assert ctx.count(ctx.true, ["a"]) == 8 and ctx.count(ctx.false, ["a"]) == 0
+    assert ctx.count(ctx.less_than("a", 3), ["a", "a"]) == 3  # a variable named twice counts once
     big = [ctx.add_variable(f"y{i}", 3).name for i in range(400)]
     assert ctx.count(ctx.domain(big), big) == 3**400
 

@@ -290,7 +290,7 @@ class Context:
         ``u`` must not depend on other bits; invalid codes are counted as they are, so
         conjoin :meth:`domain` first where sizes are not powers of two.
         """
-        care = self.bits(names) + self.bits(primed_names, primed=True)
+        care = list(dict.fromkeys(self.bits(names) + self.bits(primed_names, primed=True)))
         support = self.bdd.support(u)
         extra = set(support) - set(care)
         if extra:
@@ -302,7 +302,7 @@ class Context:
             self._live = live_node_reader(self.bdd, self._apa, self._module)
             self._apa_checked = True
         if self._apa is not None:
-            return self._apa(u, len(set(care)))
+            return self._apa(u, len(care))
         return exact_count(self.bdd, u, care)
 
     @property
