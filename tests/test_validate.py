@@ -316,3 +316,22 @@ def test_planner_plans_on_random_hex_problems_pass_the_validator(kin, seed):
         result = validate_plan(p, plan)
         assert result["valid"] and result["at_target"] == p.n, result["problems"]
         assert plan.lower_bound <= plan.makespan
+
+
+def test_events_must_name_moves_that_lead_to_the_last_configuration(three, three_moves):
+    plan = plan_from_moves(three, three_moves)
+    assert validate_plan(three, plan)["valid"]
+    shuffled = Plan("complete", plan.configurations, events=plan.events[::-1])  # order is not checked
+    assert validate_plan(three, shuffled)["valid"]
+    for events, message in [(plan.events[:-1], "do not lead from the start to the last configuration"),
+                            (plan.events + ["va0"], "'va0' is not a move event of this rotary problem"),
+                            (plan.events + ["v3"], "'v3' is not a move event"),
+                            (["x"], "events[0] = 'x'")]:
+        r = validate_plan(three, Plan("complete", plan.configurations, events=events))
+        assert not r["valid"] and any(message in p for p in r["problems"]), (events, r["problems"])
+    ab = parse_problem(copy.deepcopy(TWO_AB))
+    moves = bfs_moves(ab)
+    r = validate_plan(ab, plan_from_moves(ab, moves))
+    assert r["valid"], r["problems"]
+    r = validate_plan(ab, Plan("complete", plan_from_moves(ab, moves).configurations, events=["v0"]))
+    assert any("'v0' is not a move event of this alpha-beta problem" in p for p in r["problems"])

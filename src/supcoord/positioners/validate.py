@@ -5,6 +5,10 @@ A plan ``c_0, …, c_T`` is *valid* for a problem when
 - ``c_0 = start`` and ``c_T = target``, the status is ``complete``, ``makespan = T``;
 - every position is inside the joints' ranges, and between consecutive configurations
   every joint moves at most one step (cyclically where it wraps);
+- the ``events`` (when given) are move events of this problem (``v3``/``w3`` rotary,
+  ``va3``/``wa3``/``vb3``/``wb3`` alpha-beta, positioners counted from 0) whose net effect
+  from ``start`` is the last configuration (their order is not checked: a plan may
+  merge and reorder its single moves);
 - no neighbour pair collides at any time of any step: with all moving joints
   interpolated together, ``c_k + t·(c_{k+1} − c_k)``, ``t ∈ [0, 1]``,
   ``∀k ∀(a, b) ∀t. dist(S_a(t), S_b(t)) ≥ r_a + r_b``.
@@ -38,6 +42,7 @@ References
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -148,6 +153,33 @@ def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
     return own
 
 
+_EVENT = re.compile(r"(va|wa|vb|wb|v|w)(\d+)")
+_JOINT = {"rotary": {"v": (0, 1), "w": (0, -1)},
+          "alpha-beta": {"va": (0, 1), "wa": (0, -1), "vb": (1, 1), "wb": (1, -1)}}
+
+
+def _check_events(kind: str, events: list[str], start: np.ndarray, last: np.ndarray, steps: np.ndarray,
+                  wraps: np.ndarray, problems: list[str]) -> None:
+    """Event names of this kinematics, and their net effect from ``start`` equal to ``last``."""
+    net = np.zeros_like(start)
+    for k, name in enumerate(events):
+        m = _EVENT.fullmatch(name)
+        p = int(m.group(2)) if m else -1
+        if m is None or m.group(1) not in _JOINT[kind] or not 0 <= p < len(start):
+            problems.append(f"events[{k}] = {name!r} is not a move event of this {kind} problem with "
+                            f"{len(start)} positioners ({', '.join(f'{e}P' for e in _JOINT[kind])}, P in "
+                            f"[0, {len(start) - 1}])")
+            return
+        joint, delta = _JOINT[kind][m.group(1)]
+        net[p, joint] += delta
+    end = start + net
+    end = np.where(wraps, np.mod(end, steps), end)
+    off = np.nonzero(np.any(end != last, axis=1))[0]
+    if len(off):
+        problems.append(f"the {len(events)} events do not lead from the start to the last configuration "
+                        f"(positioners {_ids(off)} differ)")
+
+
 def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dict[str, Any]:
     """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a bad plan."""
     kin = problem.kinematics.to_json()
@@ -169,6 +201,8 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     if not np.array_equal(confs[-1], problem.target):
         bad = np.nonzero(np.any(confs[-1] != problem.target, axis=1))[0]
         problems.append(f"the last configuration is not the target (positioners {_ids(bad)} are not at target)")
+    if plan.events:
+        _check_events(kin["kind"], plan.events, problem.start, confs[-1], steps, wraps, problems)
     if plan.makespan is not None and plan.makespan != len(confs) - 1:
         problems.append(f"makespan is {plan.makespan} but the plan has {len(confs) - 1} steps")
     for k, c in enumerate(confs):
