@@ -187,7 +187,6 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     wraps = np.array([True] if kin["kind"] == "rotary" else [True, False])
     problems: list[str] = []
     confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
-    n = problem.n
     last = confs[-1] if confs else problem.start
     at_target = int(np.sum(np.all(last == problem.target, axis=1)))
     if plan.status != "complete":
