@@ -332,6 +332,27 @@ def test_cudd_out_of_memory_is_exit_3_not_a_traceback(tmp_path, monkeypatch):
         assert "out of memory" in err and "Traceback" not in err
 
 
+def test_the_timeout_watchdog_stops_code_that_never_checks_the_budget(tmp_path, monkeypatch):
+    """--timeout also ends a long stretch without fixpoint iterations (model building,
+    counting, export): the watchdog fires WATCHDOG_GRACE seconds after the timeout."""
+    import time
+
+    from supcoord.cli import cmd_supcon, main as main_module
+
+    def slow(args, console):
+        console.progress("build", {"nodes": 7, "iteration": 3})
+        time.sleep(30)
+
+    monkeypatch.setattr(cmd_supcon, "run", slow)
+    monkeypatch.setattr(main_module, "WATCHDOG_GRACE", 0.2)
+    code, out, err = run(*invocation("supcon", tmp_path), "--timeout", "0.1")  # (un-interrupted: a bug, exit 1)
+    obj = one_json_object(out)
+    assert code == 3 and obj["status"] == "unknown", (code, err)
+    assert obj["stats"]["stage"] == "build" and obj["stats"]["bdd_nodes"] == 7 and obj["stats"]["watchdog"] is True
+    import signal
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0), "the alarm outlived the command"
+
+
 def test_other_exceptions_are_bugs_not_user_errors(tmp_path, monkeypatch):
     from supcoord.cli import cmd_supcon
 

@@ -116,6 +116,8 @@ class Console:
         self._bar: Any = None
         self._log: Any = None
         self.started = time.perf_counter()
+        #: the last progress report ``(stage, info)``, for partial statistics
+        self.last: tuple[str, dict[str, Any]] | None = None
 
     @property
     def stream(self) -> Any:
@@ -155,6 +157,7 @@ class Console:
         print(f"supcoord: stopped: {message}", file=self.stream, flush=True)
 
     def progress(self, stage: str, info: Mapping[str, Any]) -> None:
+        self.last = (stage, dict(info))
         if self.quiet:
             return
         if self.verbose:

@@ -12,10 +12,15 @@ other exception is a bug and exits 1.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import json
+import math
+import signal
 import sys
-from typing import Sequence
+import threading
+import time
+from typing import Iterator, Sequence
 
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
@@ -62,7 +67,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     console = Console.from_args(args)
     try:
-        result: CommandResult = args.func(args, console)
+        with _watchdog(getattr(args, "timeout", None), console):
+            result: CommandResult = args.func(args, console)
     except BudgetExceeded as exc:
         reason = exc.one_line()
         if reason.startswith("node budget") and getattr(args, "max_nodes", None) is None:
@@ -102,6 +108,45 @@ def _silence_stdout() -> None:
         os.dup2(devnull, sys.stdout.fileno())
     except (OSError, ValueError, AttributeError):  # not a real file (tests): nothing to do
         pass
+
+
+#: seconds past ``--timeout`` after which the watchdog interrupts code between fixpoint
+#: iterations (model building, counting, export), where ``check_budget`` cannot
+WATCHDOG_GRACE = 1.0
+
+
+@contextlib.contextmanager
+def _watchdog(timeout: float | None, console: Console) -> Iterator[None]:
+    """Enforce ``--timeout`` also where no fixpoint checks it: a ``SIGALRM`` at
+    ``timeout + WATCHDOG_GRACE`` raises :class:`BudgetExceeded` with the last progress
+    report as partial statistics.  (A single BDD operation still runs to its end: the
+    handler runs when the interpreter gets control back.)  POSIX main thread only;
+    elsewhere the fixpoints' own checks are the budget."""
+    usable = (timeout is not None and timeout > 0 and math.isfinite(timeout) and hasattr(signal, "setitimer")
+              and threading.current_thread() is threading.main_thread())
+    if not usable:
+        yield
+        return
+    started = time.perf_counter()
+
+    def expire(signum, frame):  # noqa: ARG001
+        elapsed = time.perf_counter() - started
+        if console.last is None:
+            where, stats = "before any fixpoint reported (setting up)", {"stage": "setup"}
+        else:
+            stage, info = console.last
+            where = f"after the last report of {stage}"
+            stats = {"stage": stage, **{k: v for k, v in info.items() if k != "nodes"}, "bdd_nodes": info.get("nodes")}
+        raise BudgetExceeded(f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
+                             stats={**stats, "seconds": elapsed, "watchdog": True}, value=timeout)
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, timeout + WATCHDOG_GRACE)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def _first_line(exc: BaseException) -> str:
