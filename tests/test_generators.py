@@ -90,7 +90,7 @@ def test_exact_count_beyond_double_precision(backend):
 def random_predicates(draw):
     """A random Boolean function over the bits of a few finite-domain variables, given
     as a union of random partial assignments (cubes), and a care set containing its support."""
-    sizes = draw(st.lists(st.integers(1, 9), min_size=1, max_size=5))
+    sizes = draw(st.lists(st.integers(1, 7), min_size=1, max_size=4))
     cubes = draw(st.lists(st.lists(st.tuples(st.integers(0, len(sizes) - 1), st.integers(0, 8)), max_size=3),
                           max_size=6))
     negate = draw(st.booleans())
