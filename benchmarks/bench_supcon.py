@@ -192,6 +192,8 @@ def fmt(x, digits: int = 2) -> str:
         return "–"
     if isinstance(x, float):
         return f"{x:.{digits}f}" if x < 100 else f"{x:.0f}"
+    if isinstance(x, int) and abs(x) >= 10**18:
+        return f"{x:.3e}"  # exact counts of hundreds of digits do not fit a table
     return f"{x:,}" if isinstance(x, int) else str(x)
 
 
