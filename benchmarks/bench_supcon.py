@@ -279,17 +279,17 @@ def main(argv=None) -> int:
         if family != "classic" and best:
             s, o, t = best
             summary.append(f"- **{family}**: largest size libFAUDES finished within {ftimeout:.0f} s: {s} "
-                           f"({o['states']:,} states): libFAUDES {t['seconds']:.2f} s, supcoord {o['seconds']:.3f} s "
+                           f"({fmt(o['states'])} states): libFAUDES {t['seconds']:.2f} s, supcoord {o['seconds']:.3f} s "
                            f"→ speed-up {t['seconds'] / o['seconds']:.3g}×.")
         if family != "classic" and missed:
             s, o = missed
             summary.append(f"- **{family}**: first size libFAUDES did not finish within {ftimeout:.0f} s: {s} "
-                           f"({o['states']:,} states): supcoord {o['seconds']:.3f} s → speed-up > "
+                           f"({fmt(o['states'])} states): supcoord {o['seconds']:.3f} s → speed-up > "
                            f"{ftimeout / o['seconds']:.3g}×.")
         if family != "classic" and largest:
             s, o = largest
-            summary.append(f"- **{family}**: largest supervisor computed: size {s}, {o['states']:,} states, "
-                           f"{o['transitions']:,} transitions, {o['bdd_nodes']:,} BDD nodes in {o['seconds']:.2f} s, "
+            summary.append(f"- **{family}**: largest supervisor computed: size {s}, {fmt(o['states'])} states, "
+                           f"{fmt(o['transitions'])} transitions, {o['bdd_nodes']:,} BDD nodes in {o['seconds']:.2f} s, "
                            f"peak RSS {o['peak_rss_mb']:.0f} MB.")
     print()
     print("\n".join(summary))
