@@ -16,7 +16,7 @@ on a probe node: the ``BDD *`` field must be the Python object ``u.bdd``, the no
 pointer must match ``int(u)`` (``dd``'s documented ``pointer + 2`` encoding) for a
 plain and a complemented node, the two manager fields must agree, and the count of
 the probe must equal the pure-Python count.  Any mismatch (another ``dd`` build or
-version) disables the fast path and :func:`supcoord.symbolic.context.exact_count`
+version) disables the fast path and :func:`supcoord.symbolic.counting.exact_count`
 (a Python walk of the DAG, ~4 µs per node) is used instead.  The tests assert that
 both paths agree and that the fast path is active with the pinned ``dd``.
 
@@ -34,6 +34,7 @@ __all__ = ["apa_counter"]
 
 _BDD_MANAGER = 24  # offsetof(struct __pyx_obj_2dd_4cudd_BDD, manager) on 64-bit CPython
 _FN_BDD, _FN_MANAGER, _FN_NODE = 32, 40, 48  # offsets in struct __pyx_obj_2dd_4cudd_Function
+
 
 def _pointer(obj: Any, offset: int) -> int:
     return ctypes.c_void_p.from_address(id(obj) + offset).value or 0
@@ -91,6 +92,8 @@ def _validated(bdd: Any, module: Any, reference) -> Callable[[Any, int], int] | 
         return _pointer(u, _FN_NODE)
 
     def count(u: Any, n_care: int) -> int:
+        if _pointer(u, _FN_MANAGER) != manager:
+            raise ValueError("count: the BDD belongs to another manager")
         if u == bdd.false:
             return 0
         if u == bdd.true:
