@@ -74,10 +74,14 @@ def one_json_object(out: str) -> dict:
     return obj
 
 
+#: a line of the --verbose progress log: ``[m:ss] stage | iteration k | N nodes ...``
+PROGRESS_LINE = re.compile(r"\[\d+:\d\d(:\d\d)?\] \w+( #\d+)? \| (iteration|layer) [\d,]+ \| [\d,]+ nodes")
+
+
 def one_error_line(code: int, out: str, err: str, what: str = "") -> str:
     assert "Traceback" not in err and "Traceback" not in out, f"traceback for {what}:\n{err}"
     assert code == 2, f"exit status {code} (expected 2) for {what}; stderr: {err!r}"
-    lines = err.strip().splitlines()
+    lines = [ln for ln in err.strip().splitlines() if not PROGRESS_LINE.match(ln)]  # --verbose's log may precede
     assert len(lines) == 1, f"{len(lines)} stderr lines (expected 1) for {what}: {err!r}"
     assert lines[0].startswith("supcoord: error: "), f"stderr line lacks 'supcoord: error:' for {what}: {lines[0]!r}"
     return lines[0]
@@ -244,7 +248,7 @@ def test_verbose_progress_goes_to_stderr_not_stdout(command, tmp_path):
     lines = err.strip().splitlines()
     assert lines, f"'supcoord {command} --verbose' reports no progress on stderr"
     # the log's format: [m:ss] stage | iteration k | N nodes ...
-    assert all(re.match(r"\[\d+:\d\d\] \w+( #\d+)? \| (iteration|layer) \d+ \| [\d,]+ nodes", ln) for ln in lines), lines
+    assert all(PROGRESS_LINE.match(ln) for ln in lines), lines
 
 
 @pytest.mark.parametrize("command", ["paper", "supcon", "force", "solve"])
@@ -450,6 +454,24 @@ def test_bad_values_are_one_line(argv, tmp_path):
     assert any(tok in line for tok in ("--positioners", "--steps", "--target")), line
 
 
+@pytest.mark.parametrize("argv, names", [
+    (["force", "GEN", "--semantics", "sideways"], ["--semantics", "sideways", "supcoord force --help"]),
+    (["paper", "--positioners", "x", "--steps", "4"], ["--positioners", "'x'"]),
+    (["supcon", "--plant", "GEN", "--max-nodes", "1.5"], ["--max-nodes", "'1.5'"]),
+    (["frobnicate"], ["frobnicate", "supcoord --help"]),
+    (["force"], ["V.gen"]),
+    (["force", "DIR"], ["is a directory"]),
+    (["supcon", "--plant", "GEN", "--export", "DIR/missing/V.gen"], ["missing/V.gen", "No such file or directory"]),
+    (["supcon", "--plant", "GEN", "--timeout", "inf"], ["--timeout", "inf"]),
+])
+def test_usage_and_file_errors_are_one_line(argv, names, tmp_path):
+    gen = write(tmp_path, "V.gen", GEN_SAMPLE)
+    argv = [a.replace("GEN", gen).replace("DIR", str(tmp_path)) for a in argv]
+    line = one_error_line(*run(*argv, "--json"), what=" ".join(argv))
+    assert all(n in line for n in names), line
+    assert "usage:" not in line
+
+
 def test_console_script_prints_no_traceback(tmp_path):
     """The real process: a malformed file gives exit 2 and one line, no traceback."""
     bad = write(tmp_path, "bad.gen", "<Generator> \"x\" <Alphabet> \"a\" +C+")
@@ -634,3 +656,73 @@ def test_fuzz_solve_problem(tmp_path_factory, problem):
     tmp = tmp_path_factory.mktemp("solve")
     argv = ["solve", write(tmp, "problem.json", problem), "--json", "--timeout", "20"]
     check_answer_or_user_error("solve", argv, f"solve on problem {problem!r}", budgets_ok=True)
+
+
+# -- fuzzing the command line itself ---------------------------------------------------
+
+#: option values a user might type by mistake (or on purpose)
+ARG_VALUES = ["-1", "0", "1", "2", "3", "x", "nan", "inf", "-0.5", "", "1e3", "marked", "preemptive", "standard",
+              "literal", "coupled", "modular", "monolithic", "saturation", "bfs", "rcm", "hex", "autoref", "s3"]
+INT_VALUES = ["-1", "0", "1", "2", "3", "x", "1.5", ""]
+FLOAT_VALUES = ["-1", "0", "0.5", "1e-9", "nan", "inf", "x", ""]
+#: options that write files: kept at their valid values (inside tmp), never fuzzed
+WRITERS = {"--out", "--export", "--figure"}
+
+
+@st.composite
+def fuzzed_argv(draw, command: str, tmp: Path) -> list[str]:
+    """A valid invocation with one to three options or operands replaced or added."""
+    argv = [str(a) for a in invocation(command, tmp)]
+    options = [a for a in COMMANDS[command]._actions
+               if a.option_strings and not set(a.option_strings) & (WRITERS | {"-h", "--help", "--json"})]
+    files = [str(tmp / "nope.gen"), str(tmp), write(tmp, "empty.json", ""), write(tmp, "sample.gen", GEN_SAMPLE),
+             write(tmp, "sample.json", JSON_SAMPLE), write(tmp, "problem.json", PROBLEM)]
+    for _ in range(draw(st.integers(1, 3))):
+        what = draw(st.sampled_from(["option", "option", "operand"]))
+        if what == "operand":
+            candidates = [i for i, a in enumerate(argv) if i > 0 and (a.endswith((".gen", ".json")))]
+            if candidates:
+                argv[draw(st.sampled_from(candidates))] = draw(st.sampled_from(files))
+            continue
+        action = draw(st.sampled_from(options))
+        flag = draw(st.sampled_from(action.option_strings))
+        if action.nargs == 0:
+            argv.append(flag)
+        elif action.choices:
+            argv += [flag, draw(st.sampled_from([*action.choices, "bogus", ""]))]
+        elif action.type is int:
+            known_bug = flag == "--seed"  # test_negative_seed_is_a_user_error (xfail until fixed)
+            argv += [flag, draw(st.sampled_from([v for v in INT_VALUES if not (known_bug and v == "-1")]))]
+        elif action.type is float:
+            argv += [flag, draw(st.sampled_from(FLOAT_VALUES))]
+        else:
+            argv += [flag, draw(st.sampled_from(ARG_VALUES))]
+    if command == "demo" and "--no-files" not in argv:
+        argv += ["--out", str(tmp / "demo")]
+    if command in ("solve", "supcon", "paper", "force"):
+        argv += ["--timeout", "30"]  # the last --timeout wins: a fuzzed one may not hang the suite
+    return argv
+
+
+@pytest.mark.xfail(strict=True, reason="found by test_fuzz_command_lines: positioners/paper_solve.py passes a "
+                   "negative --seed to numpy.random.default_rng (ValueError, exit 1); reported, owner to fix")
+def test_negative_seed_is_a_user_error():
+    line = one_error_line(*run("paper", "--positioners", "3", "--steps", "6", "--seed", "-1", "--json"),
+                          what="paper --seed -1")
+    assert "--seed" in line, line
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_fuzz_command_lines(command, tmp_path_factory):
+    """Any mix of options and values: an answer (0), a user error (2, one line) or a
+    budget (3) — never a traceback, never two JSON objects."""
+
+    @settings(max_examples=int(os.environ.get("SUPCOORD_FUZZ_EXAMPLES", "20")), deadline=None,
+              suppress_health_check=list(HealthCheck))
+    @given(data=st.data())
+    def fuzz(data):
+        tmp = tmp_path_factory.mktemp(f"argv-{command}")
+        argv = data.draw(fuzzed_argv(command, tmp))
+        check_answer_or_user_error(command, argv, "supcoord " + " ".join(argv), budgets_ok=True)
+
+    fuzz()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -75,9 +76,9 @@ def budget_from_args(args: argparse.Namespace) -> Budget:
     max_nodes = getattr(args, "max_nodes", None)
     timeout = getattr(args, "timeout", None)
     if max_nodes is not None and max_nodes <= 0:
-        raise InputError(f"--max-nodes must be positive, got {max_nodes}", value=max_nodes, where="--max-nodes")
+        raise InputError(f"must be a positive number of nodes, got {max_nodes}", value=max_nodes, where="--max-nodes")
     if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
-        raise InputError(f"--timeout must be a positive number of seconds, got {timeout}", value=timeout,
+        raise InputError(f"must be a positive number of seconds, got {timeout}", value=timeout,
                          where="--timeout")
     if max_nodes is None:
         max_nodes = default_max_nodes()
@@ -85,9 +86,15 @@ def budget_from_args(args: argparse.Namespace) -> Budget:
 
 
 def existing_file(path: str, what: str = "file") -> Path:
+    """``path`` as a :class:`Path` if it is a readable file, else a one-line
+    :class:`InputError` naming it (missing, a directory, or unreadable)."""
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{what} not found: {path}", value=path, where=path)
+    if not p.exists():
+        raise InputError(f"{what} not found", value=path, where=path)
+    if p.is_dir():
+        raise InputError(f"is a directory, not a {what}", value=path, where=path)
+    if not os.access(p, os.R_OK):
+        raise InputError(f"{what} cannot be read (permission denied)", value=path, where=path)
     return p
 
 

@@ -32,8 +32,21 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check"]
 
 
+class UsageError(Exception):
+    """A command line argparse rejects (unknown option, bad choice, wrong type)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``supcoord: error: argument --semantics: invalid
+    choice: 'foo' (choose from 'preemptive', 'standard'); see 'supcoord force --help'``
+    instead of the usage block and a second line (formats.md: one clear line)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        raise UsageError(f"{' '.join(message.split())}; see '{self.prog} --help'")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="supcoord",
         description=(
             "Coordinate robotic fiber positioners with supervisory control theory, "
@@ -60,9 +73,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-    except SystemExit as exc:  # argparse: 2 on bad usage, 0 on --help
+    except SystemExit as exc:  # argparse: 0 after --help/--version
         return int(exc.code or 0)
-    if not getattr(args, "func", None):
+    except UsageError as exc:
+        print(f"supcoord: error: {exc}", file=sys.stderr)
+        return 2
+    if not getattr(args, "func", None):  # bare 'supcoord': the overview
         parser.print_help(sys.stderr)
         return 2
     console = Console.from_args(args)
@@ -76,6 +92,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _stopped(args, console, reason, exc.stats)
     except SupcoordError as exc:
         console.error(exc.one_line())
+        return 2
+    except OSError as exc:  # a file the user named: missing directory, permissions, disk full
+        console.error(_os_error(exc))
         return 2
     except (RuntimeError, ValueError, MemoryError) as exc:
         if not _out_of_memory(exc):
@@ -147,6 +166,12 @@ def _watchdog(timeout: float | None, console: Console) -> Iterator[None]:
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+
+
+def _os_error(exc: OSError) -> str:
+    """``/nonexistent/V.gen: No such file or directory`` (the file, then the reason)."""
+    reason = exc.strerror or _first_line(exc)
+    return f"{exc.filename}: {reason}" if exc.filename else reason
 
 
 def _first_line(exc: BaseException) -> str:
