@@ -5,6 +5,15 @@ turns those into one line on standard error and exit status 2 (``formats.md``).
 Anything else escaping is a bug (exit 1).  Each exception carries the offending
 value in ``.value`` and, where known, where it came from in ``.where`` (a file,
 field or argument name), so a message can name both.
+
+>>> err = InputError("must be an integer >= 1, got -3", value=-3, where="--positioners")
+>>> err.one_line(), err.value, isinstance(err, ValueError)
+('--positioners: must be an integer >= 1, got -3', -3, True)
+>>> try:
+...     raise FormatError("line 4: unknown event 'x'", value="x", where="plant.gen")
+... except SupcoordError as exc:       # one except clause catches every user error
+...     print(exc)
+plant.gen: line 4: unknown event 'x'
 """
 
 from __future__ import annotations
@@ -58,7 +67,12 @@ class AlphabetError(ModelError):
 
 
 class BudgetExceeded(SupcoordError):
-    """A ``max_nodes`` or ``timeout`` budget ran out; ``.stats`` holds what was learned."""
+    """A ``max_nodes`` or ``timeout`` budget ran out; ``.stats`` holds what was learned.
+
+    >>> exc = BudgetExceeded("node budget exceeded in supcon", stats={"stage": "supcon", "iteration": 4}, value=10)
+    >>> exc.stats["iteration"], exc.value, isinstance(exc, InputError)
+    (4, 10, False)
+    """
 
     def __init__(self, message: str, *, stats: dict | None = None, value: Any = None):
         self.stats = dict(stats or {})
