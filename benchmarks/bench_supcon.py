@@ -192,8 +192,9 @@ def fmt(x, digits: int = 2) -> str:
         return "–"
     if isinstance(x, float):
         return f"{x:.{digits}f}" if x < 100 else f"{x:.0f}"
-    if isinstance(x, int) and abs(x) >= 10**18:
-        return f"{x:.3e}"  # exact counts of hundreds of digits do not fit a table
+    if isinstance(x, int) and abs(x) >= 10**18:  # exact counts of hundreds of digits do not fit a table
+        digits = str(abs(x))  # (and may exceed a float's range: format the integer itself)
+        return f"{'-' if x < 0 else ''}{digits[0]}.{digits[1:4]}e+{len(digits) - 1}"
     return f"{x:,}" if isinstance(x, int) else str(x)
 
 
