@@ -104,26 +104,59 @@ def _positive_int(value: Any, least: int, flag: str) -> int:
     return int(value)
 
 
-def coupled_instance(positioners: int, steps: int, seed: int = 0, geometry: Geometry | None = None) -> PaperInstance:
-    """Seeded random starts and targets whose arms are pairwise outside the safety zone
-    (rejection sampling per positioner, in layout order, against the ones already
-    placed), priorities = indices, on the first ``positioners`` hex sites."""
+def coupled_instance(positioners: int, steps: int, seed: int = 0, geometry: Geometry | None = None,
+                     max_tries: int = 2_000, restarts: int = 200) -> PaperInstance:
+    """Seeded random starts and targets whose arms are pairwise outside the safety zone,
+    priorities = indices, on the first ``positioners`` hex sites.
+
+    Each configuration is found by depth-first search in layout order, positioner ``i``
+    trying its positions in a seeded random order against the neighbours already placed
+    (the first branch is plain rejection sampling); a search that needs more than
+    ``max_tries`` placements restarts with new seeded orders (an unlucky early choice
+    can doom a deep subtree), up to ``restarts`` times, then raises :class:`InputError`."""
     rng = np.random.default_rng(seed)
     xy = hex_sites(positioners)
     base = PaperInstance(steps, (0,) * positioners, (0,) * positioners, tuple(range(1, positioners + 1)),
                          hex_neighbours(xy))
     model = CoupledModel(base, geometry)
     confs = []
-    for _ in range(2):
-        conf: list[int] = []
-        for i in range(positioners):
-            choices = [q for q in rng.permutation(steps)
-                       if not any(model.zone[(i, j)][q, conf[j]] for j in model.neighbours[i] if j < i)]
-            if not choices:
-                raise InputError(f"could not place P{i + 1} without a collision (seed {seed})", value=seed, where="--seed")
-            conf.append(int(choices[0]))
+    for what in ("start", "target"):
+        for _ in range(restarts + 1):
+            orders = [[int(q) for q in rng.permutation(steps)] for _ in range(positioners)]
+            conf = _place(model, orders, max_tries)
+            if conf is not None:
+                break
+        else:
+            raise InputError(f"found no {what} configuration of {positioners} positioners with every pair outside "
+                             f"the safety zone (seed {seed}, {restarts} restarts of {max_tries} placements)",
+                             value=seed, where="--seed")
         confs.append(tuple(conf))
     return PaperInstance(steps, confs[0], confs[1], base.priority, base.neighbours)
+
+
+def _place(model: CoupledModel, orders: list[list[int]], max_tries: int) -> list[int] | None:
+    """Depth-first search for a zone-free configuration (explicit stack, no recursion)."""
+    size = len(orders)
+    conf: list[int] = []
+    cursor = [0] * size  # next candidate index of each positioner
+    tries = 0
+    while len(conf) < size:
+        i = len(conf)
+        placed = False
+        while cursor[i] < len(orders[i]):
+            q = orders[i][cursor[i]]
+            cursor[i] += 1
+            tries += 1
+            if not any(model.zone[(i, j)][q, conf[j]] for j in model.neighbours[i] if j < i):
+                conf.append(q)
+                placed = True
+                break
+        if not placed:
+            if i == 0 or tries > max_tries:
+                return None
+            cursor[i] = 0
+            conf.pop()
+    return conf
 
 
 def run_paper(positioners: int | None = None, steps: int | None = None, model: str = "literal", seed: int = 0,
