@@ -28,7 +28,7 @@ from .coupled import CoupledModel, Geometry, coupled_models, plant_explicit
 from .paper import CONTROLLABLE, PaperInstance, decode_label, paper_example, literal_models, spec_explicit
 
 __all__ = ["PAPER_PATH", "EXAMPLE_STEPS", "EXAMPLE_TARGET", "DemoResult", "run_demo", "replay_coupled",
-           "replay_literal", "describe"]
+           "replay_literal", "replay_in", "describe", "draw_demo"]
 
 #: the forcible path the paper reports for its example
 PAPER_PATH = ("73", "10", "30", "15", "31", "81", "20")
@@ -45,6 +45,11 @@ _WORDS = {
     "k": "registers a neighbour in its safety zone (collision, k)",
     "e": "has its safety zone empty again (free, e)",
 }
+
+
+_SHORT = {"v": "turns clockwise", "w": "turns counter-clockwise", "h": "escapes clockwise (priority)",
+          "l": "yields counter-clockwise (priority)", "m": "waits (priority)", "k": "neighbour enters its zone",
+          "e": "its zone is empty again"}
 
 
 def describe(label: str) -> str:
@@ -142,6 +147,19 @@ class DemoResult:
     files: dict[str, str] = field(default_factory=dict)
 
 
+def replay_in(V, labels: Sequence[str]) -> bool:
+    """Whether ``labels`` is a string of the symbolic supervisor ``V`` from its initial
+    state that ends in its marked state (an independent check of a witness)."""
+    q = V.init
+    for lab in labels:
+        if lab not in V.events:
+            return False
+        q = V.post(q, lab)
+        if q == V.ctx.false:
+            return False
+    return q != V.ctx.false and (q & ~V.marked) == V.ctx.false
+
+
 def _size(stats: dict[str, Any]) -> dict[str, Any]:
     return {k: stats[k] for k in ("states", "transitions", "marked", "bdd_nodes") if k in stats}
 
@@ -155,6 +173,8 @@ def run_demo(out: str | Path | None = "supcoord-demo", *, steps: int = EXAMPLE_S
     """Build and solve the example in both readings; write files into ``out`` (None: none)."""
     t0 = time.perf_counter()
     inst = paper_example(steps, target)
+    if out is not None:  # fail before the work, not after it
+        _make_dir(Path(out))
     # literal reading
     ctx = Context()
     G, E = literal_models(inst, ctx)
@@ -189,6 +209,7 @@ def run_demo(out: str | Path | None = "supcoord-demo", *, steps: int = EXAMPLE_S
         "standard": {"forcible": cs.forcible, "rank": cs.rank, "witness": cs.witness},
         "witness_explained": steps_explained,
         "witness_reaches_target": ends_marked if cc.witness else inst.start == inst.target,
+        "witness_replays_in_V": replay_in(V, cc.witness) if cc.forcible else False,
         "paper_path": replay_coupled(model, PAPER_PATH),
     }
     payload: dict[str, Any] = {
@@ -213,13 +234,17 @@ def run_demo(out: str | Path | None = "supcoord-demo", *, steps: int = EXAMPLE_S
     return DemoResult(payload, report(payload), files)
 
 
-def _write_files(out: Path, inst: PaperInstance, model: CoupledModel, V, witness, figure: bool) -> dict[str, str]:
-    from ..des.io import write_generator
-
+def _make_dir(out: Path) -> None:
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot create output directory {out}: {exc.strerror}", value=str(out), where=str(out)) from None
+
+
+def _write_files(out: Path, inst: PaperInstance, model: CoupledModel, V, witness, figure: bool) -> dict[str, str]:
+    from ..des.io import write_generator
+
+    _make_dir(out)
     G = plant_explicit(model)
     specs = [spec_explicit(i + 1, inst.steps, inst.start[i], inst.target[i], sees_priority=True, absorbing=False)
              for i in range(inst.size)]
@@ -278,7 +303,8 @@ def report(p: dict[str, Any]) -> str:
     for k, r in enumerate(cou["witness_explained"], 1):
         where = ", ".join(f"P{i + 1}@{q}" + (f"^{l}" if l else "") for i, (q, l) in enumerate(zip(r["position"], r["level"])))
         add(f"   {k:2d}. {r['event']:>4}  {r['text']:<62} -> {where}")
-    add(f"  ends in V's marked state (all on target, zones empty): {cou['witness_reaches_target']}")
+    add(f"  ends with every arm on target and every zone empty: {cou['witness_reaches_target']}; "
+        f"replayed in V, ends in V's marked state: {cou['witness_replays_in_V']}")
     add("")
     add("The paper's path <73, 10, 30, 15, 31, 81, 20>, replayed:")
     add("  literal model:")
@@ -307,18 +333,20 @@ def report(p: dict[str, Any]) -> str:
 
 
 def draw_demo(model: CoupledModel, witness: Sequence[str], path: str | Path) -> None:
-    """Layout, patrol circles, arms at start (solid) and target (dashed), and the fibre
-    tips along the witness (dots, numbered by step) — matplotlib Agg."""
+    """Layout, patrol circles, arms at start (solid) and target (dashed), the fibre tips
+    along the witness (numbered ``#k``: the k-th event of the witness moved that arm
+    there) and the witness itself, event by event, beside the plot — matplotlib Agg."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
+    from matplotlib.lines import Line2D
 
     inst, geo = model.inst, model.geo
     steps = replay_coupled(model, witness)
     configs = [list(inst.start)] + [r["position"] for r in steps if r.get("defined")]
-    fig, ax = plt.subplots(figsize=(6.4, 6.0))
+    fig, ax = plt.subplots(figsize=(10.5, 6.0))
     colours = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
 
     def tip(i, q):
@@ -329,12 +357,11 @@ def draw_demo(model: CoupledModel, witness: Sequence[str], path: str | Path) -> 
         col = colours[i % len(colours)]
         b = model.bases[i]
         ax.add_patch(plt.Circle(b, geo.arm, fill=False, ls=":", color="0.7"))
-        for q in range(inst.steps):
-            t = tip(i, q)
-            ax.plot(*t, ".", color="0.8", ms=3)
+        for q in range(inst.steps):  # the n discrete positions of the fibre tip
+            ax.plot(*tip(i, q), ".", color="0.75", ms=3)
         s, t = tip(i, inst.start[i]), tip(i, inst.target[i])
-        ax.plot([b[0], s[0]], [b[1], s[1]], "-", color=col, lw=3, label=f"P{i + 1} start {inst.start[i]}")
-        ax.plot([b[0], t[0]], [b[1], t[1]], "--", color=col, lw=2, label=f"P{i + 1} target {inst.target[i]}")
+        ax.plot([b[0], s[0]], [b[1], s[1]], "-", color=col, lw=3, label=f"P{i + 1}: start position {inst.start[i]}")
+        ax.plot([b[0], t[0]], [b[1], t[1]], "--", color=col, lw=2, label=f"P{i + 1}: target position {inst.target[i]}")
         ax.plot(*b, "o", color=col, ms=8)
         ax.annotate(f"P{i + 1}", b, textcoords="offset points", xytext=(-14, -14))
         trail = [tip(i, c[i]) for c in configs]
@@ -344,13 +371,25 @@ def draw_demo(model: CoupledModel, witness: Sequence[str], path: str | Path) -> 
         for i in range(inst.size):
             if prev[i] != cur[i]:
                 t = tip(i, cur[i])
-                ax.annotate(str(k), t, fontsize=8, color=colours[i % len(colours)], textcoords="offset points", xytext=(4, 4))
-                ax.plot(*t, "o", color=colours[i % len(colours)], ms=4)
+                ax.annotate(f"#{k}", t, fontsize=8, fontweight="bold", color=colours[i % len(colours)],
+                            textcoords="offset points", xytext=(4, 4))
+                ax.plot(*t, "o", color=colours[i % len(colours)], ms=5)
+    handles, labels = ax.get_legend_handles_labels()
+    handles.append(Line2D([], [], ls="", marker="o", color="0.3", ms=5))
+    labels.append("#k at a fibre tip: the k-th event of\nthe forcing path moved the arm there")
+    handles.append(Line2D([], [], ls="", marker=".", color="0.6", ms=6))
+    labels.append(f"the {inst.steps} positions of a tip: position k\nat angle -360°·k/{inst.steps} from +x "
+                  "(v: k+1, clockwise)")
+    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    lines = [f"forcing path (preemptive CCC), {len(witness)} events:"]
+    for k, r in enumerate(steps, 1):
+        lines.append(f"#{k} {r['event']:>3}  P{r['positioner']} {r['kind']}: {_SHORT[r['kind']]}")
+    ax.text(1.02, 0.38, "\n".join(lines), transform=ax.transAxes, fontsize=7, va="top", family="monospace")
     ax.set_aspect("equal")
-    ax.set_title(f"supcoord demo: coupled reading, forcing path <{', '.join(witness)}>", fontsize=9)
+    ax.set_title(f"supcoord demo: the paper's example, coupled reading (n = {inst.steps} positions per arm, "
+                 f"safety zone {geo.zone:g} mm)", fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
