@@ -32,6 +32,21 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check"]
 
 
+EPILOG = """examples:
+  supcoord demo                                   the seed paper's example: report, V.gen, figure
+  supcoord paper --positioners 500 --steps 12     the paper's model at scale
+  supcoord supcon --plant M1.gen M2.gen --spec BUF.gen --export V.gen
+  supcoord force V.gen --json                     CCC: forcible? rank, witness, layers
+  supcoord solve problem.json --out plan.json --figure plan.gif
+  supcoord check problem.json plan.json
+
+exit status: 0 an answer (also 'infeasible' or 'not forcible'); 2 a user error (one line on
+stderr naming the file, field or option); 3 a budget (--timeout, --max-nodes) ran out
+(JSON "status": "unknown" with the statistics so far); 1 a bug (please report it).
+Progress goes to stderr: a status line on a terminal, a log with -v; --quiet for none.
+Run 'supcoord COMMAND --help' for a command's options and an example; docs/cli.md has all."""
+
+
 class UsageError(Exception):
     """A command line argparse rejects (unknown option, bad choice, wrong type)."""
 
@@ -53,7 +68,8 @@ def build_parser() -> argparse.ArgumentParser:
             "computed symbolically with BDDs. Every command takes --json (one JSON object "
             "on stdout); user errors exit 2, budgets that run out exit 3."
         ),
-        epilog="Run 'supcoord COMMAND --help' for a command's options and an example.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"supcoord {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
