@@ -204,3 +204,11 @@ def test_results_do_not_depend_on_string_hashing(tmp_path):
         a, b = (_stable(_run_json(argv, seed)) for seed in ("1", "2"))
         a.pop("stats", None), b.pop("stats", None)
         assert a == b, f"{name}: {json.dumps(a)[:300]} != {json.dumps(b)[:300]}"
+
+
+def test_concepts_examples_run(monkeypatch):
+    """docs/concepts.md's worked examples, run as doctests."""
+    path = API_MD.parent / "concepts.md"
+    result = doctest.testfile(str(path), module_relative=False, report=True,
+                              optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted > 20 and result.failed == 0, result
