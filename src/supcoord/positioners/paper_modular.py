@@ -25,6 +25,10 @@ with ``x'_i = δ_i(x_i, u)``, so ``Y_i`` is closed; projecting a path inside ``Z
 product of the components' reachability.  ∎
 
 So ``|V| = ∏ |V_i|``, ``|δ_V| = Σ_i |δ_{V_i}| · ∏_{j≠i} |V_j|``, ``|Qm_V| = ∏ |Qm_{V_i}|``.
+:func:`literal_modular` solves each distinct positioner once (:class:`Templates`, one
+small shared context), moves its ``Z_i`` to positioner ``i``'s bits (:func:`transfer`)
+and conjoins the blocks: the supervisor's state-set BDD is the sum of its blocks,
+linear in ``N`` (docs/paper.md §6, benchmarks/results/paper.md).
 
 **Theorem 2 (forcibility, necessary condition).** For ``V = ∏ V_i`` (disjoint
 alphabets) and target ``T = ∏ T_i``, under either semantics of
