@@ -212,3 +212,32 @@ def test_concepts_examples_run(monkeypatch):
     result = doctest.testfile(str(path), module_relative=False, report=True,
                               optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 20 and result.failed == 0, result
+
+
+#: the user documentation this test file guards (other pages belong to their modules' owners)
+USER_DOCS = ["index.md", "concepts.md", "cli.md", "formats.md", "api.md", "performance.md"]
+
+
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a markdown heading."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+@pytest.mark.parametrize("page", USER_DOCS)
+def test_doc_links_resolve(page):
+    """Every relative link of the page names an existing file and, with '#', an existing heading."""
+    docs = API_MD.parent
+    text = (docs / page).read_text(encoding="utf-8")
+    broken = []
+    for link in re.findall(r"\]\(([^)\s]+)\)", text):
+        if link.startswith(("http://", "https://", "mailto:")):
+            continue
+        path, _, anchor = link.partition("#")
+        target = (docs / path) if path else docs / page
+        if not target.exists():
+            broken.append(link)
+        elif anchor and target.suffix == ".md":
+            headings = re.findall(r"^#+ (.*)$", target.read_text(encoding="utf-8"), re.M)
+            if anchor not in {_slug(h) for h in headings}:
+                broken.append(link)
+    assert not broken, f"docs/{page}: broken links {broken}"
