@@ -726,3 +726,26 @@ def test_fuzz_command_lines(command, tmp_path_factory):
         check_answer_or_user_error(command, argv, "supcoord " + " ".join(argv), budgets_ok=True)
 
     fuzz()
+
+
+# -- the progress log's rules ------------------------------------------------------------
+
+
+def test_progress_log_shows_each_stage_start_and_end_and_counts_restarts():
+    from supcoord.progress import ProgressLog
+
+    out = io.StringIO()
+    log = ProgressLog(out, interval=3600)  # nothing in between: only starts and ends
+    for stage, it in [("reachable", 1), ("reachable", 2), ("reachable", 3), ("supcon", 1), ("supcon", 2)]:
+        log(stage, {"nodes": 10 * it, "iteration": it})
+    log.close()
+    shown = [ln.split("] ", 1)[1].split(" | ")[:2] for ln in out.getvalue().splitlines()]
+    assert shown == [["reachable", "iteration 1"], ["reachable", "iteration 3"],
+                     ["supcon", "iteration 1"], ["supcon", "iteration 2"]], shown
+
+    out = io.StringIO()
+    log = ProgressLog(out, interval=0)  # -vv: every report; a restarted stage is numbered
+    for it in (1, 2, 1):
+        log("coreachable", {"nodes": 5, "iteration": it})
+    assert [ln.split("] ", 1)[1].split(" | ")[0] for ln in out.getvalue().splitlines()] == \
+        ["coreachable", "coreachable", "coreachable #2"]
