@@ -405,3 +405,12 @@ def test_cli_coupled_modular_is_one_line_exit_2(capsys):
     assert main(["paper", "--positioners", "3", "--steps", "8", "--model", "coupled", "--route", "modular"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--route" in err[0]
+
+
+@pytest.mark.parametrize("model", ["literal", "coupled"])
+def test_negative_seed_is_a_user_error_naming_the_flag(model):
+    with pytest.raises(InputError) as info:
+        solve_paper(3, 8, model, seed=-1)
+    assert info.value.where == "--seed"
+    with pytest.raises(InputError):
+        random_instance(3, 8, seed=-1)

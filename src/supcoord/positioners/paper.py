@@ -228,6 +228,8 @@ def random_instance(count: int, steps: int, seed: int = 0) -> PaperInstance:
     priorities = indices (P1 highest)."""
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 2:
         raise InputError(f"steps must be an integer >= 2, got {steps!r}", value=steps)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"seed must be an integer >= 0, got {seed!r}", value=seed, where="seed")
     rng = np.random.default_rng(seed)
     start = rng.integers(0, steps, count)
     target = (start + rng.integers(1, steps, count)) % steps

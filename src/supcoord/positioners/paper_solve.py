@@ -114,6 +114,7 @@ def coupled_instance(positioners: int, steps: int, seed: int = 0, geometry: Geom
     (the first branch is plain rejection sampling); a search that needs more than
     ``max_tries`` placements restarts with new seeded orders (an unlucky early choice
     can doom a deep subtree), up to ``restarts`` times, then raises :class:`InputError`."""
+    seed = _positive_int(seed, 0, "--seed")
     rng = np.random.default_rng(seed)
     xy = hex_sites(positioners)
     base = PaperInstance(steps, (0,) * positioners, (0,) * positioners, tuple(range(1, positioners + 1)),
@@ -183,6 +184,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     if instance is None:
         positioners = _positive_int(positioners, 1, "--positioners")
         steps = _positive_int(steps, 2, "--steps")
+        seed = _positive_int(seed, 0, "--seed")
     elif not isinstance(instance, PaperInstance):
         raise InputError(f"instance must be a PaperInstance, got {type(instance).__name__}", value=instance)
     t0 = time.perf_counter()
