@@ -691,8 +691,7 @@ def fuzzed_argv(draw, command: str, tmp: Path) -> list[str]:
         elif action.choices:
             argv += [flag, draw(st.sampled_from([*action.choices, "bogus", ""]))]
         elif action.type is int:
-            known_bug = flag == "--seed"  # test_negative_seed_is_a_user_error (xfail until fixed)
-            argv += [flag, draw(st.sampled_from([v for v in INT_VALUES if not (known_bug and v == "-1")]))]
+            argv += [flag, draw(st.sampled_from(INT_VALUES))]
         elif action.type is float:
             argv += [flag, draw(st.sampled_from(FLOAT_VALUES))]
         else:
@@ -704,9 +703,8 @@ def fuzzed_argv(draw, command: str, tmp: Path) -> list[str]:
     return argv
 
 
-@pytest.mark.xfail(strict=True, reason="found by test_fuzz_command_lines: positioners/paper_solve.py passes a "
-                   "negative --seed to numpy.random.default_rng (ValueError, exit 1); reported, owner to fix")
 def test_negative_seed_is_a_user_error():
+    """Found by test_fuzz_command_lines (numpy's ValueError, exit 1, until d50e359)."""
     line = one_error_line(*run("paper", "--positioners", "3", "--steps", "6", "--seed", "-1", "--json"),
                           what="paper --seed -1")
     assert "--seed" in line, line
