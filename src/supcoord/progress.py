@@ -163,6 +163,7 @@ class ProgressBar:
         self._bar: Any = None
         self._shown = 0.0
         self._text = ""
+        self._width: int | None = None
 
     def _make(self) -> Any:
         if self.auto:
@@ -172,9 +173,17 @@ class ProgressBar:
         else:
             from tqdm import tqdm
         file = self.file if self.file is not None else sys.stderr
+        if tqdm.__module__.startswith("tqdm.notebook"):  # a Jupyter widget: it sizes itself
+            self._width = None
+            return tqdm(total=None, bar_format="{desc}", leave=self.leave, mininterval=self.mininterval)
         columns, lines = _screen(file)
+        self._width = columns - 1
         return tqdm(total=None, bar_format="{desc}", file=file, leave=self.leave, ncols=columns, nrows=lines,
                     mininterval=self.mininterval, dynamic_ncols=False)
+
+    def _show(self) -> None:
+        text = self._text if self._width is None else self._text[: max(self._width, 20)]
+        self._bar.set_description_str(text, refresh=True)
 
     def __call__(self, stage: str, info: Mapping[str, Any]) -> None:
         new_stage, _ = self._tracker.update(stage, info)
@@ -183,7 +192,7 @@ class ProgressBar:
             self._bar = self._make()
         now = time.perf_counter()
         if new_stage or now - self._shown >= self.mininterval:
-            self._bar.set_description_str(self._text[: max(self._bar.ncols - 1, 20)], refresh=True)
+            self._show()
             self._shown = now
 
     def write(self, line: str) -> None:
@@ -196,7 +205,7 @@ class ProgressBar:
     def close(self) -> None:
         if self._bar is not None:
             if self.leave:
-                self._bar.set_description_str(self._text[: max(self._bar.ncols - 1, 20)], refresh=True)
+                self._show()
             self._bar.close()
             self._bar = None
 
