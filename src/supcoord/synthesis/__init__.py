@@ -13,7 +13,7 @@ from .checks import (
     nondeterminism,
 )
 from .forcibility import Layers, bfa, forcible_layers, forcible_layers_naive
-from .reachability import METHODS, coreachable, coreachable_naive, event_clusters, reachable, reachable_naive, trim
+from .reachability import METHODS, coreachable, coreachable_naive, event_clusters, reachable, reachable_naive, trim, trim_naive
 from .supcon import SupconResult, lift_spec, product, product_naive, supcon, supcon_naive
 from .witness import forcing_paths, strategy, witness
 
@@ -45,5 +45,6 @@ __all__ = [
     "supcon",
     "supcon_naive",
     "trim",
+    "trim_naive",
     "witness",
 ]

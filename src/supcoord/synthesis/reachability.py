@@ -57,6 +57,7 @@ __all__ = [
     "coreachable_naive",
     "event_clusters",
     "trim",
+    "trim_naive",
 ]
 
 METHODS = ("bfs", "chaining", "saturation")
@@ -291,6 +292,13 @@ _FIXPOINTS = {"bfs": _bfs, "chaining": _chaining, "saturation": _saturation}
 
 
 # -- explicit twins --------------------------------------------------------------
+
+
+def trim_naive(G: Generator, name: str | None = None) -> Generator:
+    """Explicit twin of :func:`trim` (:func:`supcoord.des.explicit_ops.trim`)."""
+    from ..des.explicit_ops import trim as _trim
+
+    return _trim(G, name)
 
 
 def reachable_naive(
