@@ -8,7 +8,6 @@ from supcoord.positioners import bfs_plan_naive, optimal_makespan_naive, random_
 from supcoord.positioners.coordination import CoordinationModel, conflict_components
 from supcoord.positioners.plan import apply_moves
 from supcoord.positioners.planner import move_layers, solve, solve_window, witness_moves
-from supcoord.positioners.planner_local import window_sizes
 from supcoord.positioners.planner_schedule import asap_schedule
 from supcoord.symbolic.context import Budget
 
@@ -155,10 +154,3 @@ def test_budgets_and_bad_arguments():
         solve(p, route="nope")
     with pytest.raises(InputError):
         CoordinationModel(p, order="spiral")
-
-
-def test_window_sizes_end_with_the_component():
-    assert window_sizes(1) == [1]
-    assert window_sizes(7) == [1, 4, 7]
-    sizes = window_sizes(547)
-    assert sizes[-1] == 547 and sizes == sorted(sizes)

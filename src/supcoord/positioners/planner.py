@@ -40,6 +40,7 @@ from ..symbolic.context import BDD, Budget
 from ..synthesis.supcon import supcon
 from .coordination import CoordinationModel, GuardedSystem, var_names
 from .plan import Move, Plan, lower_bound
+from .planner_forward import search, witness_layers
 from .planner_schedule import plan_from_schedule
 from .problem import Problem
 from .validate import validate_plan
@@ -174,27 +175,38 @@ def witness_moves(S: GuardedSystem, lay: MoveLayers, init: np.ndarray) -> list[M
 
 def solve_window(model: CoordinationModel, members: Sequence[int], frozen: np.ndarray | None,
                  init: np.ndarray, *, supervisor: bool = False, want_moves: bool = True,
-                 goal: BDD | None = None) -> WindowResult:
+                 goal: BDD | None = None, mode: str = "bidirectional") -> WindowResult:
     """Exact symbolic solve of the members from ``init`` to their targets (or to ``goal``),
-    the others frozen at ``frozen`` (or removed when None): backward layers from the
-    target, stopped at ``q0``; with ``supervisor`` first ``V = supcon(G, allevents(G))``
-    and the layers inside ``V``."""
+    the others frozen at ``frozen`` (or removed when None).
+
+    Default: layers from ``q0`` and from the goal until they meet
+    (:func:`.planner_forward.search`, ``mode`` "bidirectional" or "forward"), the
+    witness read from the shortest-path layers.  With ``supervisor`` (the paper's
+    method): ``V = supcon(G, allevents(G))`` first, then backward layers inside ``V``
+    from the target, stopped at ``q0``.  Both give ``rank`` = the length of a shortest
+    move sequence (None: unreachable)."""
     ctx = model.ctx
     t0 = time.perf_counter()
     S = model.system(members, frozen, init=init)
     stats: dict[str, Any] = {"members": len(members)}
-    within = None
-    if supervisor:
-        G = S.to_generator()
-        res = supcon(G, allevents(ctx, G))
-        stats["supervisor_states"] = res.stats["states"]
-        stats["supervisor_nodes"] = res.stats["bdd_nodes"]
-        within = res.supervisor.invariant
-        if res.supervisor.init == ctx.false:
-            stats["seconds"] = time.perf_counter() - t0
-            return WindowResult(None, [], stats)
     target = S.marked if goal is None else goal & S.invariant
-    lay = move_layers(S, target, stop_at=S.init, within=within)  # until q0 ∈ W(k)
+    if not supervisor:
+        res = search(S, target, mode=mode)
+        rank = res.distance
+        moves: list[Move] = []
+        if rank is not None and want_moves:
+            lay = MoveLayers(witness_layers(S, res), ctx.false, True, {})
+            moves = witness_moves(S, lay, init)
+        stats.update(rank=rank, layers=len(res.fwd) + len(res.bwd), seconds=time.perf_counter() - t0)
+        return WindowResult(rank, moves, stats)
+    G = S.to_generator()
+    sup = supcon(G, allevents(ctx, G))
+    stats["supervisor_states"] = sup.stats["states"]
+    stats["supervisor_nodes"] = sup.stats["bdd_nodes"]
+    if sup.supervisor.init == ctx.false:
+        stats["seconds"] = time.perf_counter() - t0
+        return WindowResult(None, [], stats)
+    lay = move_layers(S, target, stop_at=S.init, within=sup.supervisor.invariant)  # until q0 ∈ W(k)
     rank = lay.rank(S.init)
     moves = witness_moves(S, lay, init) if (rank is not None and want_moves) else []
     stats.update(rank=rank, layers=len(lay.layers), seconds=time.perf_counter() - t0)
@@ -240,9 +252,10 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
             moves, certificate = solve_local(problem, model, stats, supervisor=supervisor)
     except BudgetExceeded as exc:
         exc.stats.update({k: v for k, v in stats.items() if k not in exc.stats})
-        exc.stats.update(seconds=time.perf_counter() - t0, bdd_nodes=model.ctx.peak_nodes())
+        exc.stats.update(seconds=time.perf_counter() - t0,
+                         bdd_nodes=max(model.ctx.peak_nodes(), stats.get("window_peak_nodes", 0)))
         raise
-    stats["bdd_nodes"] = model.ctx.peak_nodes()
+    stats["bdd_nodes"] = max(model.ctx.peak_nodes(), stats.get("window_peak_nodes", 0))
     lb = lower_bound(problem)
     if moves is None:
         members, how = certificate
@@ -250,6 +263,7 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         stats["certificate"] = sorted(int(p) for p in members)
         return Plan("infeasible", [], None, lb, [], _reason(problem, members, how), stats)
     plan = plan_from_schedule(problem, moves)
+    stats["schedule"] = plan.stats["schedule"]
     stats["single_moves"] = len(moves)
     stats["seconds"] = time.perf_counter() - t0
     if validate:

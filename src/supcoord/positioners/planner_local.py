@@ -1,127 +1,290 @@
-"""The scalable route: exact symbolic solves on windows, certificates both ways.
+"""The scalable route: greedy descent, then exact symbolic windows grown by blockers.
 
 Write ``C(S, c)`` for the guarded model of :mod:`.coordination` with members ``S`` moving
-from the configuration ``c`` and the others frozen at ``c``, and ``R(S)`` for the
-*relaxed* subproblem: only ``S``, the others removed, from ``start|_S`` to ``target|_S``.
+from the configuration ``c`` and the others frozen at ``c``, ``R(S, c)`` for the
+*relaxed* window (only ``S``, the others removed, from ``c|_S``), and, for an
+unfinished positioner ``p``, ``D(S) = {x : x_p = target_p ∧ x_q = target_q for the
+members q already at target}``.
 
 Algorithm (``c := start``)::
 
-    for each conflict component K, for p ∈ K in variable order with c_p ≠ target_p:
-        for S in windows(p) = the 1, 4, 7, 13, 19, … members of K nearest to p, …, K:
-            if C(S, c) reaches D = {p and the members already at target, at target}:
-                                      append its witness moves, c := their end; next p
-            if S = K:                 infeasible, certificate K
-            if R(S) is infeasible:    infeasible, certificate S
+    loop:
+        c := the end of the greedy descent from c            (planner_descent)
+        if every positioner is at target: done
+        p := the unfinished positioner of highest priority;  K := its conflict component
+        S := {p}
+        loop:
+            forward layers of C(S, c) from c                 (planner_forward)
+            if they meet D(S):  append a shortest witness, c := its end; next outer round
+            if S = K:           infeasible, certificate K
+            Blk := the blockers of S at Reach(c)             (planner_forward)
+            if Blk = ∅:         infeasible, certificate S
+            if |S| > 1 and R(S, c) does not meet D(S):  infeasible, certificate S
+            S := S ∪ Blk
 
 Why it is exact (sound and complete, within the budgets):
 
-1. **Components are independent.**  Positioners of different conflict components share no
-   guard, so a plan of the whole is an interleaving of plans of the components and the
-   whole is feasible iff every component is.
-2. **Window moves are moves of the whole.**  A move allowed in ``C(S, c)`` is guarded by
-   every neighbour of the mover (inside ``S`` by the pair guard, outside by the unary guard
-   at its actual, frozen position), so the witness is a valid move sequence of the whole
-   problem from ``c``.  Each success puts ``p`` at target, keeps the members that were at
-   target there and leaves the rest as it was, so the number of positioners at target
-   grows strictly: at most ``|K|`` successes.  (``D`` is a superset of "all of ``S`` at
-   target": the window succeeds whenever that stronger goal could be met, with a shorter
-   rank and smaller layers.)
-3. **Relaxation certifies infeasibility.**  Removing positioners only removes guard
-   conjuncts, so a plan of the whole, restricted to the moves of ``S``, is a plan of
-   ``R(S)``.  If ``R(S)`` has none, neither has the whole problem: ``S`` names the
-   positioners involved.  ``R(S)`` is solved from the start itself, so the certificate
-   does not depend on the route taken.
-4. **The last window is the monolithic method.**  ``S = K`` with every positioner outside
+1. **Every move is a move of the whole.**  The descent's steps are serialisable single
+   moves (:mod:`.planner_descent`).  A move allowed in ``C(S, c)`` is guarded by every
+   neighbour of the mover (inside ``S`` by the pair guard, outside by the unary guard
+   at its actual, frozen position), so a window's witness is a valid move sequence of
+   the whole problem from ``c``.  The descent never moves a positioner that is at
+   target; a window's success puts ``p`` at target and leaves the finished members at
+   target, so the number of positioners at target grows with every round: at most
+   ``N`` rounds.  Every configuration ``c`` the algorithm visits is reachable from the
+   start by single moves, and the configuration graph is undirected (the tables are
+   symmetrised), so *the target is reachable from c iff it is from the start*.
+2. **Relaxation certifies infeasibility.**  Removing positioners only removes guard
+   conjuncts, so a plan of the whole, restricted to the moves of ``S``, is a plan of the
+   relaxed problem of ``S`` from ``start|_S``; and the moves start → c restricted to
+   ``S`` lead from ``start|_S`` to ``c|_S`` in it, so (undirected again) ``R(S, c)`` and
+   the relaxed problem from the start reach the same configurations.  If ``R(S, c)``
+   cannot reach ``D(S) ⊇ {target|_S}``, no plan of the whole exists: ``S`` names the
+   positioners involved.  The certificate is checkable from the start alone.
+3. **No blocker means the relaxation was computed.**  If no frozen outsider ever
+   forbids a move the members allow (``Blk = ∅``, :func:`.planner_forward.blockers`),
+   ``Reach(c)`` of ``C(S, c)`` is closed under the relaxed moves, so it *is* the
+   reachable set of ``R(S, c)``; it misses ``D(S)``, and point 2 applies.
+4. **The last window is the monolithic method.**  ``S = K`` with everyone outside
    ``K`` frozen adds no guard (no conflict pair leaves ``K``): ``C(K, c)`` is the exact
-   problem of ``K`` from ``c``.  The configuration graph is undirected (every allowed move
-   can be undone: the tables are symmetrised), and ``c`` was reached from the start, so
-   ``K`` at target is reachable from ``c`` iff from the start; if even the weaker goal ``D``
-   is unreachable from ``c``, so is ``K`` at target, and ``K`` is infeasible.
+   problem of ``K`` from ``c``; by point 1, ``K`` at target is reachable from ``c`` iff
+   from the start, and if even the weaker ``D(K)`` is unreachable, ``K`` is infeasible.
+   Components are independent (they share no guard), so the whole problem is
+   feasible iff every component is.
 
-So "infeasible" is only ever answered with a certificate, and every move is a guarded
-move; the budgets (``ctx.check_budget`` inside every fixpoint) bound the cost of the
-larger windows and end the run with status "unknown".
+Windows grow only by positioners that actually block (like M*'s subdimensional
+expansion), so most stay a few robots wide; the budgets (``ctx.check_budget`` inside
+every fixpoint) bound the cost of the rare large ones and end the run with status
+"unknown".
 
 References
 ----------
 - M. Fabian et al., local modular and compositional supervisory synthesis (the
   abstraction/relaxation arguments); A. Vahidi et al. 2006.
-- C. Sayres et al., kaiju (SDSS-V path planning: local, not exact — the contrast).
+- G. Wagner, H. Choset, M*: subdimensional expansion for multirobot path planning, 2011.
+- C. Sayres et al., kaiju (SDSS-V path planning: greedy and local, not exact — the contrast).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .coordination import CoordinationModel, conflict_components
+from ..errors import ModelError
+from .coordination import CoordinationModel, blocked_table, conflict_components, conflict_graph
 from .plan import Move
-from .planner import solve_window
+from .planner_descent import descent
+from .planner_forward import WindowBudget, blockers, search, witness_layers
 from .problem import Problem
 
-__all__ = ["solve_local", "window_sizes", "nearest_members"]
+__all__ = ["solve_local", "apply_moves_from", "LEVELS"]
+
+#: node caps of one window's forward search, tried in turn over every stuck positioner;
+#: the last (None) is uncapped, so a round always ends with a move or a verdict
+LEVELS: tuple[int | None, ...] = (20_000, 200_000, 2_000_000, None)
+#: components with at most this many configurations are solved by one exact window
+#: (shortest single-move plan) instead of descent + windows
+SMALL_COMPONENT = 100_000
 
 
-def window_sizes(total: int) -> list[int]:
-    """1, 4, 7, 13, 19, then ×1.5, ending with ``total`` (the whole component)."""
-    out, s = [], 1
-    base = [1, 4, 7, 13, 19]
-    for s in base:
-        if s < total:
-            out.append(s)
-    s = 19
-    while True:
-        s = int(s * 1.5)
-        if s >= total:
-            break
-        out.append(s)
-    out.append(total)
-    return out
+@dataclass
+class _Outcome:
+    kind: str  # "solved" | "infeasible" | "gave_up"
+    moves: list[Move] = field(default_factory=list)
+    members: list[int] = field(default_factory=list)
+    how: str = ""
+    region: list[int] = field(default_factory=list)
 
 
-def nearest_members(problem: Problem, p: int, component: list[int], size: int) -> list[int]:
-    """The ``size`` members of ``component`` whose bases are nearest ``p``'s (ties: index)."""
-    comp = np.asarray(component)
-    d = np.linalg.norm(problem.bases[comp] - problem.bases[p], axis=1)
-    idx = np.lexsort((comp, np.round(d, 6)))
-    return sorted(int(q) for q in comp[idx[:size]])
+class _Windows:
+    """The exact window searches of one run (fresh BDD manager per window of ≥ 2 members,
+    its variables in least-cutwidth order; singletons on the shared model)."""
+
+    def __init__(self, problem: Problem, model: CoordinationModel, stats: dict[str, Any]):
+        self.problem = problem
+        self.model = model
+        self.stats = stats
+        self.adj = conflict_graph(problem)
+
+    def _model(self, members: list[int]) -> CoordinationModel:
+        if len(members) == 1:
+            return self.model
+        ctx = self.model.ctx
+        wm = CoordinationModel(self.problem, order="cutwidth", members=members, backend=ctx.backend,
+                               budget=ctx.budget, progress=ctx.progress)
+        return wm
+
+    def _note_nodes(self, wm: CoordinationModel) -> None:
+        if wm is not self.model:
+            self.stats["window_peak_nodes"] = max(self.stats.get("window_peak_nodes", 0), wm.ctx.peak_nodes())
+
+    def grow(self, p: int, c: np.ndarray, done: np.ndarray, comp: list[int], cap: int | None) -> _Outcome:
+        """Windows around ``p`` grown by blockers (module docstring), each capped at ``cap`` nodes."""
+        problem, stats = self.problem, self.stats
+        members = [p]
+        while True:
+            wm = self._model(members)
+            S = wm.system(members, c, init=c, merged=True)
+            finished = [q for q in members if q == p or done[q]]
+            goal = wm.state(finished, problem.target) & S.invariant  # D(S)
+            stats["windows"] += 1
+            stats["largest_window"] = max(stats["largest_window"], len(members))
+            try:
+                res = search(S, goal, max_nodes=cap)
+            except WindowBudget:
+                self._note_nodes(wm)
+                stats["windows_abandoned"] += 1
+                return _Outcome("gave_up", region=self._region(members))
+            if res.distance is not None:
+                from .planner import MoveLayers, witness_moves
+
+                lay = MoveLayers(witness_layers(S, res), wm.ctx.false, True, {})
+                moves = witness_moves(S, lay, c)
+                self._note_nodes(wm)
+                key = str(len(members))
+                stats["window_sizes"][key] = stats["window_sizes"].get(key, 0) + 1
+                return _Outcome("solved", moves=moves, members=members)
+            if len(members) == len(comp):
+                return _Outcome("infeasible", members=comp, how="exhaustive symbolic search of their conflict component")
+            # grow by the outsiders in the way of one relaxed shortest path (M*'s rule),
+            # or by every blocker when the relaxed search is too large
+            R = wm.system(members, None, init=c, merged=True)
+            relaxed = None
+            if len(members) > 1:
+                stats["relaxed_checks"] += 1
+            try:
+                relaxed = search(R, goal & R.invariant, max_nodes=cap)
+            except WindowBudget:
+                pass
+            if relaxed is not None and relaxed.distance is None:
+                return _Outcome("infeasible", members=members, how="exhaustive symbolic search of this relaxed "
+                                                                    "subproblem")
+            if relaxed is not None:
+                from .planner import MoveLayers, witness_moves
+
+                lay = MoveLayers(witness_layers(R, relaxed), wm.ctx.false, True, {})
+                found = path_blockers(problem, witness_moves(R, lay, c), c, set(members))
+                if not found:  # the relaxed path would be a path of C(S, c), which has none
+                    raise ModelError("a relaxed path that no outsider blocks, yet the window failed", value=members)
+            else:
+                found = blockers(S, res.closed, c)
+                if not found:  # point 3 of the module docstring
+                    return _Outcome("infeasible", members=members,
+                                    how="their reachable configurations were computed exactly and no other "
+                                        "positioner restricts them")
+            self._note_nodes(wm)
+            members = sorted(set(members) | set(found))
+
+    def whole(self, comp: list[int], c: np.ndarray) -> _Outcome:
+        """One exact window over a whole conflict component (point 4 of the module docstring)."""
+        wm = self._model(comp)
+        S = wm.system(comp, c, init=c, merged=True)
+        self.stats["windows"] += 1
+        self.stats["largest_window"] = max(self.stats["largest_window"], len(comp))
+        res = search(S, S.marked)
+        self._note_nodes(wm)
+        if res.distance is None:
+            return _Outcome("infeasible", members=comp, how="exhaustive symbolic search of their conflict component")
+        from .planner import MoveLayers, witness_moves
+
+        lay = MoveLayers(witness_layers(S, res), wm.ctx.false, True, {})
+        return _Outcome("solved", moves=witness_moves(S, lay, c), members=comp)
+
+    def _region(self, members: list[int]) -> list[int]:
+        """``S ∪ N(S)``: the positioners whose positions decide the windows' outcome."""
+        out = set(members)
+        for q in members:
+            out.update(r for _, r, _ in self.adj[q])
+        return sorted(out)
 
 
 def solve_local(problem: Problem, model: CoordinationModel, stats: dict[str, Any], *,
-                supervisor: bool = False) -> tuple[list[Move] | None, Any]:
-    """``(moves, None)`` with a move sequence start → target, or ``(None, (S, how))``."""
+                supervisor: bool = False, greedy: bool = True,
+                levels: tuple[int | None, ...] = LEVELS) -> tuple[list[Move] | None, Any]:
+    """``(moves, None)`` with a move sequence start → target, or ``(None, (S, how))``.
+
+    ``greedy=False`` skips the descent (windows only); ``levels`` are the window node
+    caps (the last must be None).  ``supervisor`` is accepted for the monolithic route's
+    signature; windows never need ``supcon`` (every event is controllable and the
+    specification trivial)."""
+    if not levels or levels[-1] is not None:
+        raise ModelError("the last window level must be uncapped (None)", value=levels)
     c = problem.start.copy()
     moves: list[Move] = []
-    rank_of = {p: i for i, p in enumerate(model.order)}
     comps = conflict_components(problem)
-    stats.update(components=len(comps), largest_component=max(len(k) for k in comps), windows=0,
-                 largest_window=0, window_sizes={}, relaxed_checks=0)
-    for comp in comps:
-        for p in sorted(comp, key=rank_of.__getitem__):
-            if np.array_equal(c[p], problem.target[p]):
-                continue
-            for size in window_sizes(len(comp)):
-                members = comp if size >= len(comp) else nearest_members(problem, p, comp, size)
-                done = [q for q in members if q == p or np.array_equal(c[q], problem.target[q])]
-                goal = model.state(done, problem.target)  # p at target, finished members stay
-                res = solve_window(model, members, c, c, supervisor=supervisor, goal=goal)
-                stats["windows"] += 1
-                stats["largest_window"] = max(stats["largest_window"], len(members))
-                if res.feasible:
-                    key = str(len(members))
-                    stats["window_sizes"][key] = stats["window_sizes"].get(key, 0) + 1
-                    moves.extend(res.moves)
-                    c = apply_moves_from(problem, c, res.moves)
-                    break
-                if len(members) == len(comp):
-                    return None, (comp, "exhaustive symbolic search of their conflict component")
-                if len(members) > 1:
-                    stats["relaxed_checks"] += 1
-                    relaxed = solve_window(model, members, None, problem.start, want_moves=False)
-                    if not relaxed.feasible:
-                        return None, (members, "exhaustive symbolic search of this relaxed subproblem")
-    return moves, None
+    comp_of = {p: i for i, k in enumerate(comps) for p in k}
+    stats.update(components=len(comps), largest_component=max((len(k) for k in comps), default=0), windows=0,
+                 largest_window=0, window_sizes={}, relaxed_checks=0, windows_abandoned=0, descent_steps=0,
+                 descent_moves=0, at_target=int(problem.at_target(c).sum()))
+    by_priority = sorted(range(problem.n), key=lambda p: (problem.priority[p], p))
+    win = _Windows(problem, model, stats)
+    for comp in comps:  # small components: one exact window, a shortest single-move plan
+        if len(comp) > 1 and problem.kinematics.n_positions ** len(comp) <= SMALL_COMPONENT:
+            out = win.whole(comp, c)
+            if out.kind == "infeasible":
+                return None, (out.members, out.how)
+            moves.extend(out.moves)
+            c = apply_moves_from(problem, c, out.moves)
+    memo: dict[int, tuple[int, list[int], np.ndarray]] = {}  # p -> (level, region, c[region]) of a give-up
+    while True:
+        if greedy:
+            steps, c = descent(problem, c, check=model.ctx.check_budget)
+            stats["descent_steps"] += len(steps)
+            for step in steps:
+                moves.extend(step)
+                stats["descent_moves"] += len(step)
+        done = problem.at_target(c)
+        stats["at_target"] = int(done.sum())
+        if done.all():
+            return moves, None
+        # a round: every stuck positioner once at the cheapest level; windows solved one
+        # after another from the current configuration (no descent in between, so that
+        # distant windows stay independent and the schedule runs them in parallel)
+        progress = False
+        for li, cap in enumerate(levels):
+            for p in [q for q in by_priority if not done[q]]:
+                if done[p]:
+                    continue  # finished by an earlier window of this round
+                m = memo.get(p)
+                if m is not None and m[0] >= li and np.array_equal(c[m[1]], m[2]):
+                    continue  # same neighbourhood, same cap: the same give-up
+                out = win.grow(p, c, done, comps[comp_of[p]], cap)
+                if out.kind == "infeasible":
+                    return None, (out.members, out.how)
+                if out.kind == "gave_up":
+                    memo[p] = (li, out.region, c[out.region].copy())
+                    continue
+                moves.extend(out.moves)
+                c = apply_moves_from(problem, c, out.moves)
+                done = problem.at_target(c)
+                progress = True
+                if li > 0:
+                    break  # an expensive success: back to the descent and the cheap level
+            if progress:
+                break
+        if not progress:  # cannot happen: the last level is uncapped
+            raise ModelError("no window concluded at the uncapped level", value=int((~done).sum()))
+
+
+def path_blockers(problem: Problem, moves: list[Move], c: np.ndarray, members: set[int]) -> list[int]:
+    """The positioners outside ``members``, frozen at ``c``, that forbid some move of the
+    member-only sequence ``moves`` from ``c`` (symmetrised swept tables), sorted."""
+    kin = problem.kinematics
+    adj = conflict_graph(problem)
+    idx = {mv: i for i, mv in enumerate(kin.moves())}
+    x = c.copy()
+    flat_c = kin.flat_index(c)
+    found: set[int] = set()
+    for q, joint, d in moves:
+        i = int(kin.flat_index(x[q]))
+        m = idx[(joint, d)]
+        for k, r, side in adj[q]:
+            if r not in members and r not in found and blocked_table(problem, k, side)[m, i, int(flat_c[r])]:
+                found.add(r)
+        x[q] = kin.step(x[q], joint, d)
+    return sorted(found)
 
 
 def apply_moves_from(problem: Problem, c: np.ndarray, moves: list[Move]) -> np.ndarray:

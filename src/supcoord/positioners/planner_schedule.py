@@ -26,16 +26,18 @@ in parallel, which is what a plan stitched from local windows needs.
 
 from __future__ import annotations
 
+import bisect
 from typing import Sequence
 
 import numpy as np
 
 from ..errors import InputError
 from .collision import DEFAULT_TOL, motion_collides
+from .coordination import blocked_table, conflict_graph
 from .plan import Move, Plan, event_name, lower_bound
 from .problem import Problem
 
-__all__ = ["asap_schedule", "plan_from_schedule"]
+__all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
 
 
 def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_TOL) -> list[np.ndarray]:
@@ -93,10 +95,163 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
     return out
 
 
-def plan_from_schedule(problem: Problem, moves: Sequence[Move], stats: dict | None = None) -> Plan:
-    """A ``complete`` plan of the as-soon-as-possible schedule of ``moves``."""
-    confs = asap_schedule(problem, moves)
+SCHEDULES = ("timeline", "asap", "best")
+
+
+def plan_from_schedule(problem: Problem, moves: Sequence[Move], stats: dict | None = None,
+                       schedule: str = "best") -> Plan:
+    """A ``complete`` plan of ``moves`` scheduled by :func:`timeline_schedule`,
+    :func:`asap_schedule` or (``"best"``) the shorter of the two (``stats["schedule"]``
+    says which)."""
+    if schedule not in SCHEDULES:
+        raise InputError(f"unknown schedule {schedule!r} (use {', '.join(SCHEDULES)})", value=schedule)
+    stats = dict(stats or {})
+    candidates = []
+    if schedule in ("timeline", "best"):
+        candidates.append(("timeline", timeline_schedule(problem, moves)))
+    if schedule in ("asap", "best"):
+        candidates.append(("asap", asap_schedule(problem, moves)))
+    name, confs = min(candidates, key=lambda nc: len(nc[1]))
+    stats["schedule"] = name
     if not np.array_equal(confs[-1], problem.target):
         raise InputError("the moves do not end at the target configuration", value=len(moves))
     events = [event_name(problem.kinematics, p, j, d) for p, j, d in moves]
-    return Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", dict(stats or {}))
+    return Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", stats)
+
+
+class _Timeline:
+    """Steps at which one positioner moves, its delta at each, and its positions:
+    ``pos[0]`` = start, ``pos[i+1]`` = after the move at ``steps[i]``."""
+
+    __slots__ = ("steps", "deltas", "pos", "last_joint")
+
+    def __init__(self, start: np.ndarray, n_joints: int):
+        self.steps: list[int] = []
+        self.deltas: list[np.ndarray] = []
+        self.pos: list[np.ndarray] = [start.copy()]
+        self.last_joint = [-1] * n_joints
+
+    def at(self, s: int) -> tuple[int, np.ndarray, np.ndarray | None]:
+        """``(i, position before step s, delta at s or None)``."""
+        i = bisect.bisect_left(self.steps, s)
+        moving = i < len(self.steps) and self.steps[i] == s
+        return i, self.pos[i], (self.deltas[i] if moving else None)
+
+
+def timeline_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_TOL) -> list[np.ndarray]:
+    """Configurations of the *timeline* schedule of a valid single-move sequence.
+
+    Moves are placed in sequence order; move ``m_k`` of joint ``j`` of ``p``, from ``x``
+    (``p``'s last placed position) to ``x'``, goes to the earliest step ``s`` with
+
+    - ``s > `` the last step of joint ``j`` of ``p`` and ``s ≥`` the last step of ``p``
+      (at that last step ``p``'s joints move together: ``x``, ``x'`` and the motion are
+      that step's merged ones);
+    - for every neighbour ``q`` (:attr:`Problem.pairs`), with ``q``'s placed timeline:
+      the motion of ``p`` during ``s`` is free against ``q``'s position or motion during
+      ``s`` (symmetrised swept table when one joint moves against a standing ``q``,
+      :func:`~.collision.motion_collides` or :meth:`CollisionTables.simultaneous`
+      otherwise), and every move of ``q`` placed after ``s`` is free against ``p``
+      standing at ``x'``.
+
+    **Why the result is collision-free.**  Invariant: all placed moves, executed on the
+    timelines, are collision-free for every pair.  Placing ``m_k`` at ``s`` changes
+    ``p``'s timeline only from step ``s`` on (``p`` has no placed move after ``s``): its
+    motion during ``s`` and its pose ``x'`` during every later step are exactly what the
+    two conditions check against each neighbour's timeline.  Per positioner the moves
+    keep the sequence's order, so the last configuration is the sequence's.  Unlike
+    :func:`asap_schedule`, a move need not wait for *every* earlier move of its
+    neighbours — only for those whose poses actually forbid it — so the moves of a
+    window can slide under the tail of an earlier, unrelated window.  The scan ends:
+    at ``s`` beyond every neighbour's last placed step the neighbours stand where the
+    sequence had them, where the move was allowed.
+    """
+    kin = problem.kinematics
+    n, nj = problem.n, kin.n_joints
+    shape = np.array(kin.shape)
+    wraps = np.array([jt.wraps for jt in kin.joints])
+    strides = np.array([int(np.prod(kin.shape[j + 1:])) for j in range(nj)])
+    move_index = {mv: i for i, mv in enumerate(kin.moves())}
+    adj = conflict_graph(problem)
+    side_of: dict[tuple[int, int], tuple[int, int]] = {}
+    for p in range(n):
+        for k, q, side in adj[p]:
+            side_of[(p, q)] = (k, side)
+    pair_nbrs: list[list[tuple[int, int, int]]] = [[] for _ in range(n)]
+    for k, (a, b) in enumerate(problem.pairs):
+        pair_nbrs[int(a)].append((k, int(b), 0))
+        pair_nbrs[int(b)].append((k, int(a), 1))
+    tables = problem.tables()
+    bsum = problem.buffers
+    tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(n)]
+
+    def wrap(x: np.ndarray) -> np.ndarray:
+        return np.where(wraps, x % shape, x)
+
+    def flat(x: np.ndarray) -> int:
+        return int(np.dot(x, strides))
+
+    def single(d: np.ndarray) -> int | None:
+        nz = np.nonzero(d)[0]
+        return move_index[(int(nz[0]), int(d[nz[0]]))] if len(nz) == 1 else None
+
+    def free(p: int, x: np.ndarray, dp: np.ndarray, q: int, k: int, side: int, y: np.ndarray,
+             dq: np.ndarray | None) -> bool:
+        """Is ``p`` moving ``x → x + dp`` free against ``q`` at ``y`` moving ``dq`` (None: standing)?"""
+        mp = single(dp)
+        if dq is None and mp is not None:
+            ks = side_of.get((p, q))
+            return ks is None or not blocked_table(problem, ks[0], ks[1])[mp, flat(x), flat(y)]
+        mq = None if dq is None else single(dq)
+        if mp is not None and mq is not None:
+            sim = tables.simultaneous(k)  # [u_a, v_b, i_a, j_b]
+            u, v, i, j = 1 + mp, 1 + mq, flat(x), flat(y)
+            return not (sim[u, v, i, j] if side == 0 else sim[v, u, j, i])
+        dqv = np.zeros(nj) if dq is None else dq
+        return not bool(motion_collides(kin, problem.bases[p], x, dp, kin, problem.bases[q], y, dqv,
+                                        bsum[p] + bsum[q], tol))
+
+    def fits(p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
+        for k, q, side in pair_nbrs[p]:
+            t = tl[q]
+            i, y, dq = t.at(s)
+            if not free(p, x, dp, q, k, side, y, dq):
+                return False
+            for idx in range(i + (dq is not None), len(t.steps)):  # q's later moves vs p at x'
+                if not free(q, t.pos[idx], t.deltas[idx], p, k, 1 - side, x_end, None):
+                    return False
+        return True
+
+    for k_move, (p, joint, d) in enumerate(moves):
+        t = tl[p]
+        if kin.step(t.pos[-1], joint, d) is None:
+            raise InputError(f"move {k_move} ({event_name(kin, p, joint, d)}) drives positioner {p} past a hard stop",
+                             value=(p, joint, d))
+        e = np.zeros(nj, dtype=np.int64)
+        e[joint] = d
+        last = t.steps[-1] if t.steps else -1
+        placed = False
+        if last >= 0 and t.last_joint[joint] < last:  # join p's last step
+            x, dp = t.pos[-2], t.deltas[-1] + e
+            x_end = wrap(x + dp)
+            if fits(p, last, x, dp, x_end):
+                t.deltas[-1] = dp
+                t.pos[-1] = x_end
+                t.last_joint[joint] = last
+                placed = True
+        s = last + 1
+        x = t.pos[-1]
+        x_end = wrap(x + e)
+        while not placed:
+            if fits(p, s, x, e, x_end):
+                t.steps.append(s)
+                t.deltas.append(e)
+                t.pos.append(x_end)
+                t.last_joint[joint] = s
+                placed = True
+            s += 1
+    horizon = max((t.steps[-1] for t in tl if t.steps), default=-1) + 1
+    out = []
+    for s in range(horizon + 1):
+        out.append(np.array([t.at(s)[1] for t in tl], dtype=np.int64).reshape(n, nj))
+    return out
