@@ -18,7 +18,7 @@ plain and a complemented node, the two manager fields must agree, and the count 
 the probe must equal the pure-Python count.  Any mismatch (another ``dd`` build or
 version) disables the fast path and :func:`supcoord.symbolic.counting.exact_count`
 (a Python walk of the DAG, ~4 µs per node) is used instead.  The tests assert that
-both paths agree and that the fast path is active with the pinned ``dd``.
+both paths agree and that the fast path is active with ``dd`` 0.6.0.
 
 References
 ----------
