@@ -154,3 +154,223 @@ def test_budgets_and_bad_arguments():
         solve(p, route="nope")
     with pytest.raises(InputError):
         CoordinationModel(p, order="spiral")
+
+
+# -- the scalable route's parts: descent, bidirectional search, blockers, orders, schedules ---------------
+
+import itertools  # noqa: E402
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from supcoord.errors import SupcoordError  # noqa: E402
+from supcoord.positioners import Plan  # noqa: E402
+from supcoord.positioners.coordination import blocked_table, conflict_graph, cutwidth_order  # noqa: E402
+from supcoord.positioners.planner import MoveLayers  # noqa: E402
+from supcoord.positioners.planner_descent import descent  # noqa: E402
+from supcoord.positioners.planner_forward import blockers, search, witness_layers  # noqa: E402
+from supcoord.positioners.planner_local import LEVELS, path_blockers  # noqa: E402
+from supcoord.positioners.planner_schedule import timeline_schedule  # noqa: E402
+from supcoord.positioners.problem import parse_problem  # noqa: E402
+from supcoord.positioners.search_naive import blockers_naive, reachable_naive  # noqa: E402
+
+
+def _subproblem(p, members):
+    """The relaxed subproblem of ``members``: only they, from their starts to their targets."""
+    data = p.to_json()
+    data["layout"] = {"kind": "points", "xy": p.bases[members].tolist()}
+    for key in ("start", "target", "priority"):
+        data[key] = [data[key][i] for i in members]
+    return parse_problem(data)
+
+
+def _single_move_valid(p, c, move):
+    """Is ``move`` allowed at configuration ``c`` by the (symmetrised) swept tables?"""
+    q, joint, d = move
+    kin = p.kinematics
+    if kin.step(c[q], joint, d) is None:
+        return False
+    m = kin.moves().index((joint, d))
+    flat = kin.flat_index(c)
+    return not any(blocked_table(p, k, side)[m, flat[q], flat[r]] for k, r, side in conflict_graph(p)[q])
+
+
+@st.composite
+def small_problems(draw):
+    """2–3 positioners at random distances (feasible and infeasible), random starts and targets."""
+    kind = draw(st.sampled_from(["rot2", "rot3", "ab2"]))
+    kin = AB if kind == "ab2" else ROT
+    d = draw(st.floats(10.0 if kind == "ab2" else 15.0, 30.0))
+    xy = [[0, 0], [d, 0]] if kind != "rot3" else [[0, 0], [d, 0], [d / 2, d * draw(st.floats(0.7, 1.0))]]
+    seed = draw(st.integers(0, 10**6))
+    try:
+        return random_problem(np.array(xy, float), kin, 2.0, seed=seed)
+    except InputError:  # too dense to draw a collision-free configuration
+        return random_problem(np.array(xy, float) * 1.6, kin, 2.0, seed=seed)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(small_problems())
+def test_local_route_verdicts_equal_the_explicit_bfs(p):
+    naive = bfs_plan_naive(p)
+    plan = solve(p)
+    assert plan.status == ("complete" if naive is not None else "infeasible")
+    if naive is None:
+        sub = _subproblem(p, plan.stats["certificate"])
+        assert bfs_plan_naive(sub) is None  # the certificate really is infeasible, checked explicitly
+    else:
+        assert validate_plan(p, plan)["valid"]
+        assert plan.lower_bound <= plan.makespan <= len(plan.events)
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 10**6), st.sampled_from(["rot", "ab"]))
+def test_descent_steps_are_serialisable_and_free_when_merged(seed, kind):
+    kin, pitch = (ROT, 22.4) if kind == "rot" else (AB_SDSS, 22.4)
+    p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, kin, 2.0, seed=seed)
+    steps, end = descent(p, p.start)
+    c = p.start.copy()
+    confs = [c.copy()]
+    rng = np.random.default_rng(seed)
+    for step in steps:
+        for order in (step, step[::-1], [step[i] for i in rng.permutation(len(step))]):  # any order is valid
+            x = c.copy()
+            for mv in order:
+                assert _single_move_valid(p, x, mv), (step, order, mv)
+                x[mv[0]] = p.kinematics.step(x[mv[0]], mv[1], mv[2])
+        c = x
+        confs.append(c.copy())
+    assert np.array_equal(c, end)
+    # the simultaneous steps themselves are collision-free (the validator, with the end as target)
+    data = p.to_json()
+    data["target"] = [p.kinematics.position_to_json(q) for q in end]
+    q = parse_problem(data)
+    assert validate_plan(q, Plan("complete", confs))["valid"]
+    # the descent only moves positioners towards their targets: it never passes one
+    dist = p.kinematics.joint_distance
+    assert np.all(dist(end, p.target) <= dist(p.start, p.target))
+
+
+@pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot3", 1), ("rot4", 0), ("ab2", 0), ("ab3", 2), ("ab3", 4)])
+def test_bidirectional_and_forward_search_find_the_bfs_distance(name, seed):
+    p = _problem(name, seed)
+    naive = bfs_plan_naive(p)
+    model = CoordinationModel(p, members=range(p.n), order="cutwidth")
+    for merged in (False, True):
+        S = model.system(list(range(p.n)), None, merged=merged)
+        for mode in ("bidirectional", "forward"):
+            res = search(S, S.marked, mode=mode)
+            assert res.distance == (None if naive is None else naive[0])
+            if naive is None:
+                assert res.closed is not None and res.closed & S.init != model.ctx.false or \
+                    res.closed & S.marked != model.ctx.false  # the closed side holds its own end
+                continue
+            moves = witness_moves(S, MoveLayers(witness_layers(S, res), model.ctx.false, True, {}), p.start)
+            assert len(moves) == naive[0] and np.array_equal(apply_moves(p, moves)[-1], p.target)
+
+
+@pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot4", 1), ("rot4", 2), ("ab3", 0), ("ab3", 3)])
+def test_blockers_and_reach_equal_the_explicit_twin(name, seed):
+    p = _problem(name, seed)
+    model = CoordinationModel(p)
+    for r in (1, 2):
+        for members in itertools.combinations(range(p.n), r):
+            members = list(members)
+            S = model.system(members, p.start, init=p.start)
+            res = search(S, model.ctx.false, mode="forward")  # an empty goal: the whole Reach(q0)
+            naive = reachable_naive(p, members, p.start)
+            assert model.ctx.count(res.closed, S.variables) == len(naive)
+            assert blockers(S, res.closed, p.start) == blockers_naive(p, members, p.start)
+
+
+def test_blockers_of_a_relaxed_path_block_it():
+    p = _problem("rot4", 0)
+    members = [0]
+    relaxed = bfs_plan_naive(_subproblem(p, members))
+    moves = [(members[q], j, d) for q, j, d in relaxed[1]]
+    found = path_blockers(p, moves, p.start, set(members))
+    c = p.start.copy()
+    hit = set()
+    for q, j, d in moves:  # replay with everyone else frozen: the blocked moves name the blockers
+        m = p.kinematics.moves().index((j, d))
+        flat = p.kinematics.flat_index(c)
+        hit |= {r for k, r, side in conflict_graph(p)[q] if r not in members and blocked_table(p, k, side)[m, flat[q], flat[r]]}
+        c[q] = p.kinematics.step(c[q], j, d)
+    assert found == sorted(hit)
+
+
+def test_cutwidth_order_is_least_by_brute_force():
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, ROT, 2.0, seed=0)
+    adj = conflict_graph(p)
+    for members in ([0, 1, 2, 3, 4, 5, 6], [1, 2, 7, 8, 9, 10], [5, 6, 16, 17, 0]):
+        def cost(order):
+            cuts = []
+            for i in range(1, len(order)):
+                left = set(order[:i])
+                cuts.append(sum(1 for a in left for _, b, _ in adj[a] if b in members and b not in left))
+            return max(cuts), sum(cuts)
+        best = min(cost(list(o)) for o in itertools.permutations(members))
+        assert cost(cutwidth_order(p, members)) == best
+
+
+@pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot4", 2), ("ab3", 0), ("ab3", 1)])
+def test_timeline_schedule_is_valid_and_never_longer_than_the_sequence(name, seed):
+    p = _problem(name, seed)
+    naive = bfs_plan_naive(p)
+    assert naive is not None, "the cases are chosen feasible"
+    length, moves = naive
+    confs = timeline_schedule(p, moves)
+    assert len(confs) - 1 <= length and np.array_equal(confs[-1], p.target)
+    assert validate_plan(p, Plan("complete", confs))["valid"]
+
+
+def test_timeline_schedule_on_a_grid_plan_is_valid_and_shorter_than_asap():
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, AB_SDSS, 2.0, seed=1)
+    plan = solve(p, validate=False)
+    moves = [parse_event_(p, e) for e in plan.events]
+    tl, asap = timeline_schedule(p, moves), asap_schedule(p, moves)
+    for confs in (tl, asap):
+        assert validate_plan(p, Plan("complete", confs))["valid"]
+    assert len(tl) <= len(asap)
+
+
+def parse_event_(p, e):
+    from supcoord.positioners.plan import parse_event
+
+    return parse_event(p.kinematics, e)
+
+
+@pytest.mark.parametrize("pitch,seed", [(22.4, 0), (22.4, 3), (18.0, 0), (18.0, 5)])
+def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, seed):
+    p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, ROT, 2.0, seed=seed)
+    local = solve(p)
+    mono = solve(p, route="monolithic", supervisor=False)
+    assert local.status == mono.status
+    if local.status == "complete":
+        assert validate_plan(p, local)["valid"] and validate_plan(p, mono)["valid"]
+    else:  # 18 mm pitch: arms overlap across the grid; both certify, the local one names fewer
+        assert bfs_plan_naive(_subproblem(p, local.stats["certificate"])) is None \
+            if len(local.stats["certificate"]) <= 4 else True
+        assert len(local.stats["certificate"]) <= len(mono.stats["certificate"])
+
+
+@pytest.mark.parametrize("pitch,seed", [(17.0, 6), (17.0, 8), (14.0, 6), (14.0, 11)])
+def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
+    p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, AB, 2.0, seed=seed)
+    local = solve(p)
+    mono = solve(p, route="monolithic", supervisor=False)
+    assert local.status == mono.status
+    for plan in (local, mono):
+        if plan.status == "complete":
+            assert validate_plan(p, plan)["valid"]
+
+
+def test_window_caps_never_change_the_verdict():
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, AB_SDSS, 2.0, seed=0)
+    tiny = solve(p, levels=(50, None))
+    default = solve(p)
+    assert tiny.status == default.status == "complete"
+    assert tiny.stats["windows_abandoned"] > 0  # the tiny cap was really hit
+    assert LEVELS[-1] is None
+    with pytest.raises(SupcoordError):
+        solve(p, levels=(1000,))

@@ -353,8 +353,9 @@ class CoordinationModel:
         self.adj = conflict_graph(problem)
         self.moves = self.kin.moves()
         self._pair_guard: dict[tuple[int, int, int], BDD] = {}
-        self._unary_guard: dict[tuple[int, int, int, int], BDD] = {}
+        self._unary_guard: dict[tuple, BDD] = {}
         self._step: dict[tuple[int, int], BDD] = {}
+        self._identity: dict[str, BDD] = {}
 
     # -- pieces ------------------------------------------------------------------
     def _shape(self) -> tuple[int, ...]:
@@ -401,6 +402,19 @@ class CoordinationModel:
             self._unary_guard[key] = g
         return g
 
+    def frozen_guard(self, p: int, m: int, outside: tuple[tuple[int, int, int], ...]) -> BDD:
+        """``⋀_q ¬B_{p,m}(x_p, c_q)`` over frozen neighbours ``(k, side, c_q)``: the rows
+        OR-ed in numpy, then one BDD (cached per ``(p, m, outside)``)."""
+        key = (p, m, outside)
+        g = self._unary_guard.get(key)
+        if g is None:
+            blocked = np.zeros(self.kin.n_positions, dtype=bool)
+            for k, side, cq in outside:
+                blocked |= blocked_table(self.problem, k, side)[m][:, cq]
+            g = table_bdd(self.ctx, ~blocked.reshape(self._shape()), var_names(self.problem, p))
+            self._unary_guard[key] = g
+        return g
+
     def state(self, members: Iterable[int], config: np.ndarray) -> BDD:
         """The cube of the members' positions in ``config`` (``(N, J)``)."""
         values = {}
@@ -432,13 +446,14 @@ class CoordinationModel:
             names = var_names(problem, p)
             variables.extend(names)
             for m, (joint, delta) in enumerate(self.moves):
-                unary = ctx.true
                 guards = []
+                outside = []
                 for k, q, side in self.adj[p]:
                     if q in inside:
                         guards.append(self.pair_guard(p, m, k, q, side))  # ¬B(x_p, x_q)
                     elif flat_frozen is not None:
-                        unary &= self.unary_guard(p, m, k, q, side, int(flat_frozen[q]))  # ¬B(x_p, c_q)
+                        outside.append((k, side, int(flat_frozen[q])))
+                unary = self.frozen_guard(p, m, tuple(outside))  # ⋀_q ¬B(x_p, c_q), one table
                 guards.insert(0, unary & self.enabled_step(p, m))
                 ev = event_name(self.kin, p, joint, delta)
                 moves[ev] = GuardedMove(ev, (p, joint, delta), names[joint], self.step_relation(p, m), guards)
@@ -516,19 +531,30 @@ class GuardedSystem:
             self._relations[event] = rel
         return rel
 
-    def pre(self, x: BDD, event: str) -> BDD:
-        """``{q : δ(q, σ) ∈ X}`` (inside the invariant)."""
+    def prime(self, x: BDD, var: str) -> BDD:
+        """``X[x_v := x'_v] = ∃x_v. X ∧ I_v`` with ``I_v = (x_v ↔ x'_v)``: an AndAbstract costs
+        time in the size of ``X``, where ``dd``'s ``let`` loops over every declared variable
+        (thousands in a whole-grid manager)."""
+        model = self.model
+        ident = model._identity.get(var)
+        if ident is None:
+            ident = model._identity[var] = model.ctx.identity([var])
+        return model.ctx.and_exist(x, ident, model.ctx.bits([var]))
+
+    def pre(self, x: BDD, event: str, primed: BDD | None = None) -> BDD:
+        """``{q : δ(q, σ) ∈ X}`` (inside the invariant); ``primed`` = ``X[x_v := x'_v]`` if known."""
         ctx = self.model.ctx
         mv = self.moves[event]
+        xp = self.prime(x, mv.var) if primed is None else primed
         if self.merged:  # (∃x'_v. T¹_σ ∧ X') ∧ T²_σ ∧ …
             first, *rest = self.relation(event)
-            out = ctx.and_exist(first, ctx.prime(x, [mv.var]), ctx.bits([mv.var], primed=True))
+            out = ctx.and_exist(first, xp, ctx.bits([mv.var], primed=True))
             for g in rest:
                 if out == ctx.false:
                     break
                 out &= g
             return out & self.invariant
-        out = ctx.and_exist(mv.step, ctx.prime(x, [mv.var]), ctx.bits([mv.var], primed=True))  # ∃x'_v. step ∧ X'
+        out = ctx.and_exist(mv.step, xp, ctx.bits([mv.var], primed=True))  # ∃x'_v. step ∧ X'
         for g in mv.guards:
             if out == ctx.false:
                 break

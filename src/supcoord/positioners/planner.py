@@ -8,17 +8,21 @@ the discretised single-move model (``formats.md``):
   only controllable events and a trivial specification, the trim part of ``G``), then
   forcibility layers ``W(0) = Qm``, ``W(k+1) = W(k) ∪ Pre(W(k))`` inside ``V``: feasible iff
   ``q0 ∈ W(∞)``, and ``rank(q0)`` is the length of a shortest single-move plan.
-- ``"local"`` (default) — the same symbolic machinery on windows
-  (:mod:`.planner_local`): conflict components, windows grown around an unfinished
-  positioner with the rest frozen, relaxed subproblems as certificates of infeasibility,
-  the whole component as the last (exact) window.
+- ``"local"`` (default) — the scalable route (:mod:`.planner_local`): a greedy
+  simultaneous descent whose steps are serialisable single moves
+  (:mod:`.planner_descent`), then exact symbolic windows around each stuck
+  positioner (bidirectional frontier search, :mod:`.planner_forward`), grown by the
+  positioners that block a relaxed path, with relaxed subproblems as certificates of
+  infeasibility and the whole conflict component as the last (exact) window.
 
 A witness is read forward through the layers (:func:`witness_moves`): at rank ``k``
 some move leads into ``L(k−1)``; among those the tie-break prefers a joint that has not
 moved since the current simultaneous step began, then the higher priority (smaller
-number), then the event name — which interleaves positioners so that the
-as-soon-as-possible schedule (:mod:`.planner_schedule`) packs them into few steps.
-Every complete plan is checked with the independent validator before it is returned.
+number), then the event name — which interleaves positioners so that few simultaneous
+steps hold them.  The single moves are then scheduled into simultaneous steps
+(:mod:`.planner_schedule`: the shorter of the timeline and the as-soon-as-possible
+schedules).  Every complete plan is checked with the independent validator before it
+is returned.
 
 References
 ----------
@@ -221,13 +225,15 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
 
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
-          validate: bool = True) -> Plan:
+          validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
     ``"hex"`` (defaults: rcm for local, hex for monolithic); ``supervisor``: compute
-    ``supcon`` before forcibility (default: on for monolithic only).  A budget that runs
-    out raises :class:`BudgetExceeded` whose ``stats`` carry what was learned.
+    ``supcon`` before forcibility (default: on for monolithic only); ``greedy``/``levels``:
+    the local route's descent and window node caps (:func:`.planner_local.solve_local`;
+    neither changes a verdict).  A budget that runs out raises :class:`BudgetExceeded`
+    whose ``stats`` carry what was learned.
     """
     from ..errors import InputError
     from .planner_local import solve_local
@@ -249,7 +255,8 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
                 stats["supervisor_states"] = res.stats["supervisor_states"]
             moves, certificate = (res.moves, None) if res.feasible else (None, (everyone, "exhaustive search"))
         else:
-            moves, certificate = solve_local(problem, model, stats, supervisor=supervisor)
+            moves, certificate = solve_local(problem, model, stats, supervisor=supervisor, greedy=greedy,
+                                             **({} if levels is None else {"levels": levels}))
     except BudgetExceeded as exc:
         exc.stats.update({k: v for k, v in stats.items() if k not in exc.stats})
         exc.stats.update(seconds=time.perf_counter() - t0,

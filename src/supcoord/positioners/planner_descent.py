@@ -18,8 +18,7 @@ keeps the first that is *compatible* with the choices made so far:
    a valid single-move sequence of the guarded model (:mod:`.coordination`);
 2. **collision-free when merged** — for every neighbour pair (:attr:`Problem.pairs`)
    in which both move, or one moves two joints, the simultaneous motion
-   ``c + t·Δ`` is free (:meth:`CollisionTables.simultaneous` for one joint each,
-   :func:`.collision.motion_collides` otherwise).
+   ``c + t·Δ`` is free (:func:`.collision.motion_collides`, cached: :func:`motion_free`).
 
 Steps repeat until every positioner is at target or a step chooses nothing (a stall).
 Each step strictly lowers ``Σ_p Σ_j d_j(c_p, target_p)``, so the descent ends.
@@ -42,6 +41,7 @@ References
 from __future__ import annotations
 
 import itertools
+import math
 from typing import Callable, Sequence
 
 import numpy as np
@@ -51,7 +51,7 @@ from .coordination import blocked_table, conflict_graph
 from .plan import Move
 from .problem import Problem
 
-__all__ = ["descent", "descent_step", "wanted_moves"]
+__all__ = ["descent", "descent_step", "wanted_moves", "motion_free"]
 
 
 def wanted_moves(problem: Problem, c: np.ndarray, p: int) -> list[list[tuple[int, int]]]:
@@ -78,6 +78,89 @@ def wanted_moves(problem: Problem, c: np.ndarray, p: int) -> list[list[tuple[int
     return out
 
 
+def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarray, y: np.ndarray,
+                dq: np.ndarray | None, tol: float = DEFAULT_TOL) -> bool:
+    """Is the simultaneous motion of pair ``k`` free: the member ``side`` moving ``x → x + dp``,
+    the other ``y → y + dq`` (None: standing)?  :func:`~.collision.motion_collides`, cached
+    per (pair geometry, poses, deltas): a grid has few distinct pair offsets."""
+    cache = problem.__dict__.setdefault("_motion_cache", {})
+    a, b = (int(v) for v in problem.pairs[k])
+    nj = problem.kinematics.n_joints
+    dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
+    xa, da, yb, db = (x, dp, y, dq) if side == 0 else (y, dq, x, dp)
+    off = np.round(problem.bases[b] - problem.bases[a], 9) + 0.0
+    bsum = float(problem.buffers[a] + problem.buffers[b])
+    key = (float(off[0]), float(off[1]), round(bsum, 9), tuple(int(v) for v in xa), tuple(int(v) for v in da),
+           tuple(int(v) for v in yb), tuple(int(v) for v in db))
+    hit = cache.get(key)
+    if hit is None:
+        kin = problem.kinematics
+        # end-point prefilter (as in collision.swept_table): the distance changes at rate ≤ L
+        seg = _segment_fn(problem)
+        ba, bb = problem.bases[a], problem.bases[b]
+        d0 = _segment_distance(*seg(ba, key[3]), *seg(bb, key[5]))
+        d1 = _segment_distance(*seg(ba, tuple(u + v for u, v in zip(key[3], key[4]))),
+                               *seg(bb, tuple(u + v for u, v in zip(key[5], key[6]))))
+        length = float(kin.sweep_length(da) + kin.sweep_length(db))
+        if min(d0, d1) < bsum:
+            hit = True
+        elif (d0 + d1 - length) / 2 >= bsum:
+            hit = False
+        else:
+            hit = bool(motion_collides(kin, problem.bases[a], xa, da, kin, problem.bases[b], yb, db, bsum, tol))
+        cache[key] = hit
+    return not hit
+
+
+def _segment_fn(problem: Problem):
+    """Scalar ``(x0, y0, x1, y1)`` of a colliding segment at a (possibly out-of-range by one
+    step) integer pose, the formulas of :mod:`.kinematics` in plain floats (tested
+    against :meth:`Kinematics.segments`)."""
+    fn = problem.__dict__.get("_segment_fn")
+    if fn is not None:
+        return fn
+    kin = problem.kinematics
+    if kin.kind == "rotary":
+        arm, steps = kin.arm, kin.steps
+
+        def fn(base, q):
+            t = -2 * math.pi * q[0] / steps
+            bx, by = float(base[0]), float(base[1])
+            return bx, by, bx + arm * math.cos(t), by + arm * math.sin(t)
+    else:
+        lo, hi = (math.radians(v) for v in kin.beta_range)
+        al, be, na, nb = kin.alpha, kin.beta, kin.alpha_steps, kin.beta_steps
+
+        def fn(base, q):
+            a = 2 * math.pi * q[0] / na
+            b = lo + (hi - lo) * q[1] / (nb - 1)
+            ex, ey = float(base[0]) + al * math.cos(a), float(base[1]) + al * math.sin(a)
+            return ex, ey, ex + be * math.cos(a + b), ey + be * math.sin(a + b)
+    problem.__dict__["_segment_fn"] = fn
+    return fn
+
+
+def _point_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    ux, uy, wx, wy = bx - ax, by - ay, px - ax, py - ay
+    den = ux * ux + uy * uy
+    t = 0.0 if den <= 0 else min(1.0, max(0.0, (wx * ux + wy * uy) / den))
+    return math.hypot(wx - t * ux, wy - t * uy)
+
+
+def _segment_distance(ax: float, ay: float, bx: float, by: float, cx: float, cy: float, dx: float,
+                      dy: float) -> float:
+    """Distance between segments ``[a, b]`` and ``[c, d]`` (0 if they cross), scalar."""
+    ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
+    o1 = ux * (cy - ay) - uy * (cx - ax)
+    o2 = ux * (dy - ay) - uy * (dx - ax)
+    o3 = vx * (ay - cy) - vy * (ax - cx)
+    o4 = vx * (by - cy) - vy * (bx - cx)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return 0.0
+    return min(_point_segment(ax, ay, cx, cy, dx, dy), _point_segment(bx, by, cx, cy, dx, dy),
+               _point_segment(cx, cy, ax, ay, bx, by), _point_segment(dx, dy, ax, ay, bx, by))
+
+
 class _Tables:
     """Per-problem lookups: moves, strides, conflict adjacency, pair adjacency."""
 
@@ -94,7 +177,7 @@ class _Tables:
         for k, (a, b) in enumerate(problem.pairs):
             self.pair_adj[int(a)].append((k, int(b), 0))
             self.pair_adj[int(b)].append((k, int(a), 1))
-        self.tables = problem.tables()
+
 
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
         out = q.copy()
@@ -138,20 +221,12 @@ def _compatible(T: _Tables, c: np.ndarray, chosen: dict[int, list], p: int, mp: 
         mq = chosen.get(q, [])
         if not mq and len(mp) < 2:
             continue  # one joint against a standing neighbour: the swept table of (1)
-        if len(mp) == 1 and len(mq) == 1:
-            sim = T.tables.simultaneous(k)  # [u_a, v_b, i_a, j_b]
-            u, v = 1 + T.move_index[mp[0]], 1 + T.move_index[mq[0]]
-            i, j = T.flat(c[p]), T.flat(c[q])
-            hit = sim[u, v, i, j] if side == 0 else sim[v, u, j, i]
-        else:
-            dp, dq = np.zeros(T.kin.n_joints), np.zeros(T.kin.n_joints)
-            for jj, d in mp:
-                dp[jj] = d
-            for jj, d in mq:
-                dq[jj] = d
-            bsum = problem.buffers[p] + problem.buffers[q]
-            hit = bool(motion_collides(T.kin, problem.bases[p], c[p], dp, T.kin, problem.bases[q], c[q], dq,
-                                       bsum, tol))
+        dp, dq = np.zeros(T.kin.n_joints, dtype=np.int64), np.zeros(T.kin.n_joints, dtype=np.int64)
+        for jj, d in mp:
+            dp[jj] = d
+        for jj, d in mq:
+            dq[jj] = d
+        hit = not motion_free(problem, k, side, c[p], dp, c[q], dq, tol)
         if hit:
             return False
     return True

@@ -100,8 +100,12 @@ def image(S: GuardedSystem, x: BDD) -> BDD:
     """``Img(X) = ⋃_σ Pre_σ(X) = Post(X)`` (module docstring: the graph is undirected)."""
     ctx = S.model.ctx
     out = ctx.false
-    for e in S.moves:
-        out |= S.pre(x, e)
+    primed: dict[str, BDD] = {}
+    for e, mv in S.moves.items():
+        xp = primed.get(mv.var)
+        if xp is None:  # X[x_v := x'_v], once per written variable (v and w share it)
+            xp = primed[mv.var] = S.prime(x, mv.var)
+        out |= S.pre(x, e, primed=xp)
     return out
 
 
@@ -133,8 +137,8 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
     j = _least_meeting(ctx, sides[0][0], sides[1])
     if j is not None:
         return done(j, (0, j), None)
-    if sides[1][0] == ctx.false:
-        return done(None, None, walls[1])
+    if sides[1][0] == ctx.false and mode != "forward":
+        return done(None, None, walls[1])  # nothing to reach (forward mode still computes Reach(q0))
     while True:
         now = time.perf_counter()
         if now - checked >= CHECK_EVERY:

@@ -8,19 +8,32 @@ members q already at target}``.
 
 Algorithm (``c := start``)::
 
+    for each small conflict component K (≤ SMALL_COMPONENT configurations):
+        one exact window C(K, c): a shortest plan of K, or infeasible, certificate K
     loop:
-        c := the end of the greedy descent from c            (planner_descent)
+        c := the end of the greedy descent from c               (planner_descent)
         if every positioner is at target: done
-        p := the unfinished positioner of highest priority;  K := its conflict component
-        S := {p}
-        loop:
-            forward layers of C(S, c) from c                 (planner_forward)
-            if they meet D(S):  append a shortest witness, c := its end; next outer round
-            if S = K:           infeasible, certificate K
-            Blk := the blockers of S at Reach(c)             (planner_forward)
-            if Blk = ∅:         infeasible, certificate S
-            if |S| > 1 and R(S, c) does not meet D(S):  infeasible, certificate S
-            S := S ∪ Blk
+        for cap in LEVELS (node caps; the last is None):
+            for each unfinished p, by priority:                 (a "round")
+                S := {p}
+                loop:                                           (grow)
+                    search C(S, c) from c and from D(S)          (planner_forward)
+                    if it connects them: append a shortest witness, c := its end; next p
+                    if S = K (p's component):  infeasible, certificate K
+                    search R(S, c):
+                        D(S) unreachable:      infeasible, certificate S
+                        else Blk := the outsiders forbidding a move of its shortest path
+                    (if R(S, c) is over the cap: Blk := the blockers of the closed side of C(S, c);
+                     Blk = ∅:                  infeasible, certificate S)
+                    S := S ∪ Blk
+                a search over the cap abandons p for this round (no verdict)
+            after a success at a cheap level finish the round; at a dearer level go
+            back to the descent at once; no success at this cap: next cap
+
+A round's windows are solved one after another from the current configuration with no
+descent in between, so distant windows stay independent and the schedule runs them in
+parallel.  An abandoned ``p`` is not retried at the same cap while the positions of
+``S ∪ N(S)`` (all that its windows read) are unchanged.
 
 Why it is exact (sound and complete, within the budgets):
 
@@ -43,8 +56,12 @@ Why it is exact (sound and complete, within the budgets):
    positioners involved.  The certificate is checkable from the start alone.
 3. **No blocker means the relaxation was computed.**  If no frozen outsider ever
    forbids a move the members allow (``Blk = ∅``, :func:`.planner_forward.blockers`),
-   ``Reach(c)`` of ``C(S, c)`` is closed under the relaxed moves, so it *is* the
-   reachable set of ``R(S, c)``; it misses ``D(S)``, and point 2 applies.
+   the closed side of the search of ``C(S, c)`` (``Reach(c)`` or ``CoReach(D(S))``) is
+   closed under the relaxed moves too, so it is a union of connected components of
+   ``R(S, c)``'s graph holding one end and not the other; point 2 applies.  When
+   ``R(S, c)`` reaches ``D(S)`` but ``C(S, c)`` does not, some outsider forbids a move of
+   the relaxed path (otherwise it would be a path of ``C(S, c)``), so ``Blk ≠ ∅`` and
+   the window grows.
 4. **The last window is the monolithic method.**  ``S = K`` with everyone outside
    ``K`` frozen adds no guard (no conflict pair leaves ``K``): ``C(K, c)`` is the exact
    problem of ``K`` from ``c``; by point 1, ``K`` at target is reachable from ``c`` iff
@@ -52,10 +69,14 @@ Why it is exact (sound and complete, within the budgets):
    Components are independent (they share no guard), so the whole problem is
    feasible iff every component is.
 
+5. **Caps only reorder the work.**  An abandoned search gives no verdict; the last
+   level is uncapped, so every round ends with a success or a certificate, and by
+   point 1 there are at most ``N`` successes.
+
 Windows grow only by positioners that actually block (like M*'s subdimensional
-expansion), so most stay a few robots wide; the budgets (``ctx.check_budget`` inside
-every fixpoint) bound the cost of the rare large ones and end the run with status
-"unknown".
+expansion), so most stay a few robots wide; the user's budgets
+(``ctx.check_budget`` inside every fixpoint and descent step) bound the rest and end
+the run with status "unknown".
 
 References
 ----------

@@ -1,4 +1,11 @@
-"""From a sequence of single moves to a plan of simultaneous steps (as-soon-as-possible).
+"""From a sequence of single moves to a plan of simultaneous steps.
+
+Two schedules of a valid single-move sequence: as-soon-as-possible in sequence order
+(:func:`asap_schedule`, below) and the timeline schedule (:func:`timeline_schedule`,
+its docstring has the argument), which lets a move overtake earlier moves of its
+neighbours whose poses do not forbid it; :func:`plan_from_schedule` keeps the shorter.
+
+As soon as possible:
 
 Given a valid single-move sequence ``m_1 … m_K`` (each move allowed by the guarded model
 from the configuration the moves before it produce), each move ``m_k`` of positioner
@@ -34,6 +41,7 @@ import numpy as np
 from ..errors import InputError
 from .collision import DEFAULT_TOL, motion_collides
 from .coordination import blocked_table, conflict_graph
+from .planner_descent import motion_free
 from .plan import Move, Plan, event_name, lower_bound
 from .problem import Problem
 
@@ -150,8 +158,7 @@ def timeline_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFA
     - for every neighbour ``q`` (:attr:`Problem.pairs`), with ``q``'s placed timeline:
       the motion of ``p`` during ``s`` is free against ``q``'s position or motion during
       ``s`` (symmetrised swept table when one joint moves against a standing ``q``,
-      :func:`~.collision.motion_collides` or :meth:`CollisionTables.simultaneous`
-      otherwise), and every move of ``q`` placed after ``s`` is free against ``p``
+      :func:`~.collision.motion_collides` otherwise), and every move of ``q`` placed after ``s`` is free against ``p``
       standing at ``x'``.
 
     **Why the result is collision-free.**  Invariant: all placed moves, executed on the
@@ -181,8 +188,6 @@ def timeline_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFA
     for k, (a, b) in enumerate(problem.pairs):
         pair_nbrs[int(a)].append((k, int(b), 0))
         pair_nbrs[int(b)].append((k, int(a), 1))
-    tables = problem.tables()
-    bsum = problem.buffers
     tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(n)]
 
     def wrap(x: np.ndarray) -> np.ndarray:
@@ -202,14 +207,7 @@ def timeline_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFA
         if dq is None and mp is not None:
             ks = side_of.get((p, q))
             return ks is None or not blocked_table(problem, ks[0], ks[1])[mp, flat(x), flat(y)]
-        mq = None if dq is None else single(dq)
-        if mp is not None and mq is not None:
-            sim = tables.simultaneous(k)  # [u_a, v_b, i_a, j_b]
-            u, v, i, j = 1 + mp, 1 + mq, flat(x), flat(y)
-            return not (sim[u, v, i, j] if side == 0 else sim[v, u, j, i])
-        dqv = np.zeros(nj) if dq is None else dq
-        return not bool(motion_collides(kin, problem.bases[p], x, dp, kin, problem.bases[q], y, dqv,
-                                        bsum[p] + bsum[q], tol))
+        return motion_free(problem, k, side, x, dp, y, dq, tol)
 
     def fits(p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
         for k, q, side in pair_nbrs[p]:

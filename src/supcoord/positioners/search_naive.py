@@ -15,7 +15,11 @@
   (:meth:`CollisionTables.simultaneous`); BFS gives the optimal makespan, the yardstick
   for the planner's compacted plans.
 
-Both enumerate ``∏ |Q_p|`` configurations: for 2–4 positioners only.
+- :func:`reachable_naive`, :func:`blockers_naive` — a window's reachable set (members
+  move, the others frozen or removed) and its blockers, the twins of
+  :func:`.planner_forward.search`'s closed side and :func:`.planner_forward.blockers`.
+
+All enumerate up to ``∏ |Q_p|`` configurations: for 2–4 positioners only.
 
 References
 ----------
@@ -34,7 +38,7 @@ from .coordination import blocked_table, conflict_graph
 from .plan import Move
 from .problem import Problem
 
-__all__ = ["bfs_plan_naive", "optimal_makespan_naive", "MAX_NAIVE_STATES"]
+__all__ = ["bfs_plan_naive", "optimal_makespan_naive", "reachable_naive", "blockers_naive", "MAX_NAIVE_STATES"]
 
 #: refuse explicit searches over more configurations than this
 MAX_NAIVE_STATES = 5_000_000
@@ -115,3 +119,72 @@ def optimal_makespan_naive(problem: Problem) -> int | None:
                 dist[t] = dist[s] + 1
                 queue.append(t)
     return None
+
+
+def reachable_naive(problem: Problem, members: list[int], c: np.ndarray,
+                    frozen: bool = True) -> set[tuple[int, ...]]:
+    """Configurations of ``members`` (flat positions, in ``members`` order) reachable from
+    ``c`` by single moves of the members, the others frozen at ``c`` (``frozen``) or
+    removed — the explicit twin of a window's ``Reach(q0)``."""
+    kin = problem.kinematics
+    total = kin.n_positions ** len(members)
+    if total > MAX_NAIVE_STATES:
+        raise InputError(f"explicit search over {total} configurations exceeds {MAX_NAIVE_STATES}", value=total)
+    adj = conflict_graph(problem)
+    moves = kin.moves()
+    pos = kin.all_positions()
+    where = {p: i for i, p in enumerate(members)}
+    flat_c = kin.flat_index(c)
+    s0 = tuple(int(flat_c[p]) for p in members)
+    seen = {s0}
+    queue = deque([s0])
+    while queue:
+        s = queue.popleft()
+        for a, p in enumerate(members):
+            for m, (joint, delta) in enumerate(moves):
+                nxt = kin.step(pos[s[a]], joint, delta)
+                if nxt is None:
+                    continue
+                ok = True
+                for k, q, side in adj[p]:
+                    if q in where:
+                        other = s[where[q]]
+                    elif frozen:
+                        other = int(flat_c[q])
+                    else:
+                        continue
+                    if blocked_table(problem, k, side)[m, s[a], other]:
+                        ok = False
+                        break
+                if ok:
+                    t = s[:a] + (int(kin.flat_index(nxt)),) + s[a + 1:]
+                    if t not in seen:
+                        seen.add(t)
+                        queue.append(t)
+    return seen
+
+
+def blockers_naive(problem: Problem, members: list[int], c: np.ndarray) -> list[int]:
+    """Explicit twin of :func:`.planner_forward.blockers` on ``Reach(c)`` of the window:
+    the outsiders whose frozen position forbids a move every member allows at a
+    reachable configuration."""
+    kin = problem.kinematics
+    adj = conflict_graph(problem)
+    moves = kin.moves()
+    pos = kin.all_positions()
+    where = {p: i for i, p in enumerate(members)}
+    flat_c = kin.flat_index(c)
+    found: set[int] = set()
+    for s in reachable_naive(problem, members, c):
+        for a, p in enumerate(members):
+            for m, (joint, delta) in enumerate(moves):
+                if kin.step(pos[s[a]], joint, delta) is None:
+                    continue
+                inside_ok = all(not blocked_table(problem, k, side)[m, s[a], s[where[q]]]
+                                for k, q, side in adj[p] if q in where)
+                if not inside_ok:
+                    continue
+                for k, q, side in adj[p]:
+                    if q not in where and blocked_table(problem, k, side)[m, s[a], int(flat_c[q])]:
+                        found.add(q)
+    return sorted(found)
