@@ -187,9 +187,9 @@ def test_errors_name_file_line_and_token(tmp_path):
 
 
 @ORACLE
-@given(named_generators())
-def test_gen_roundtrip_ours(g):
-    h = parse_gen(format_gen(g))
+@given(named_generators(), st.sampled_from([None, True, False]))
+def test_gen_roundtrip_ours(g, names_in_transitions):
+    h = parse_gen(format_gen(g, names_in_transitions=names_in_transitions))
     assert _same_numbered(g, h)
     assert h.name == g.name
     if g.state_names is not None and h.state_names is not None:
@@ -197,10 +197,11 @@ def test_gen_roundtrip_ours(g):
 
 
 @ORACLE
-@given(named_generators())
-def test_gen_ours_to_faudes(tmp_path_factory, g):
+@given(named_generators(), st.sampled_from([None, True, False]))
+def test_gen_ours_to_faudes(tmp_path_factory, g, names_in_transitions):
+    # names_in_transitions=False: transitions refer to named states by index (large exports)
     path = tmp_path_factory.mktemp("gen") / "g.gen"
-    write_gen(g, path)
+    write_gen(g, path, names_in_transitions=names_in_transitions)
     s = _faudes_read(path)
     assert (s.Size(), s.TransRelSize()) == (g.n_states, g.n_transitions)
     assert {s.EventName(e) for e in s.Alphabet()} == set(g.events)

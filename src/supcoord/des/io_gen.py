@@ -35,7 +35,8 @@ and a message naming the line and token.
 
 The writer writes what ``faudes.System.Write()`` writes (``faudes.System(path)``
 reads it back): states by index (``<Consecutive>``) or, when the generator has
-valid and unique state names, by name; names that libFAUDES would misread
+valid and unique state names, by name (beyond 10,000 transitions the transitions
+refer to named states by index, see :func:`format_gen`); names that libFAUDES would misread
 (``true``, names starting with a digit …) are quoted.  Event names must be valid
 libFAUDES symbols (printable ASCII, no blank, ``"`` or ``#``).
 
@@ -620,8 +621,21 @@ def _rows(items: Iterable[str]) -> list[str]:
     return lines
 
 
-def format_gen(g: Generator) -> str:
-    """The text of ``g`` as a libFAUDES ``System`` file (readable by ``faudes.System``)."""
+#: above this many transitions, transitions and state sets refer to named states by index
+NAMES_IN_TRANSITIONS_UP_TO = 10_000
+
+
+def format_gen(g: Generator, *, names_in_transitions: bool | None = None) -> str:
+    """The text of ``g`` as a libFAUDES ``System`` file (readable by ``faudes.System``).
+
+    Named states are listed by name in ``<States>`` (each gets the index of its
+    position); ``<TransRel>``, ``<InitStates>`` and ``<MarkedStates>`` repeat the names
+    (as ``faudes.Generator.Write()`` does) when ``names_in_transitions`` is true, and
+    refer to the states by those indices otherwise (libFAUDES reads both).  The
+    default repeats names up to :data:`NAMES_IN_TRANSITIONS_UP_TO` transitions:
+    supervisors exported from large products have long names (one ``var=value`` per
+    component), and repeating them three times per transition made a 59,047-state
+    dining-philosophers supervisor a 175 MB file."""
     bad = [e for e in g.events if not valid_symbol(e)]
     if bad:
         raise InputError(
@@ -632,11 +646,17 @@ def format_gen(g: Generator) -> str:
     if names is not None and (len(set(names)) != len(names) or not all(valid_symbol(s) for s in names)):
         names = None
 
+    if names_in_transitions is None:
+        names_in_transitions = g.n_transitions <= NAMES_IN_TRANSITIONS_UP_TO
+
     def state(q: int) -> str:
         # a state named after its own libFAUDES index (as unnamed states read) is written as that index
         if not names or names[q] == str(q + 1):
             return str(q + 1)
         return _symbol(names[q])
+
+    def ref(q: int) -> str:  # a state in <TransRel>, <InitStates>, <MarkedStates>
+        return state(q) if names_in_transitions else str(q + 1)
 
     out = [f'<Generator name="{_escape(g.name)}" ftype="System">', ""]
     out += [f"% written by supcoord: {g.n_states} states, {len(g.events)} events, "
@@ -652,19 +672,19 @@ def format_gen(g: Generator) -> str:
     elif g.n_states:
         out += ["<Consecutive>", *_rows(["1", str(g.n_states)]), "</Consecutive>"]
     out += ["</States>", "", "<TransRel>"]
-    out += [" ".join(s.ljust(_WIDTH - 1) for s in (state(a), _symbol(e), state(b))).rstrip()
+    out += [" ".join(s.ljust(_WIDTH - 1) for s in (ref(a), _symbol(e), ref(b))).rstrip()
             for a, e, b in g.transitions()]
     out += ["</TransRel>", "", "<InitStates>"]
     if g.init is not None:
-        out += _rows([state(g.init)])
-    out += ["</InitStates>", "", "<MarkedStates>", *_rows(state(q) for q in sorted(g.marked)), "</MarkedStates>", "",
+        out += _rows([ref(g.init)])
+    out += ["</InitStates>", "", "<MarkedStates>", *_rows(ref(q) for q in sorted(g.marked)), "</MarkedStates>", "",
             "</Generator>", ""]
     return "\n".join(out)
 
 
-def write_gen(g: Generator, path: str | os.PathLike) -> None:
-    """Write ``g`` as a libFAUDES ``System`` ``.gen`` file."""
-    text = format_gen(g)
+def write_gen(g: Generator, path: str | os.PathLike, *, names_in_transitions: bool | None = None) -> None:
+    """Write ``g`` as a libFAUDES ``System`` ``.gen`` file (see :func:`format_gen`)."""
+    text = format_gen(g, names_in_transitions=names_in_transitions)
     with open(path, "w", encoding="latin-1", newline="\n") as f:
         f.write(text)
 
