@@ -16,7 +16,7 @@ from strategies import systems
 
 from supcoord.cli.main import main
 from supcoord.des import explicit_ops as X
-from supcoord.des.generator import Generator
+from supcoord.des.generator import Event, Generator
 from supcoord.des.io import write_generator
 
 KEYS = {"status", "states", "transitions", "marked", "bdd_nodes", "seconds"}
@@ -193,3 +193,11 @@ def test_subprocess(tmp_path):
     assert proc.returncode == 0, proc.stderr
     payload = json.loads(proc.stdout)
     assert set(payload) == KEYS and payload["states"] == 12
+
+
+def test_export_limit_must_be_positive(tmp_path, capsys):
+    path = tmp_path / "G.gen"
+    write_generator(Generator(1, [Event("a", True)], [(0, "a", 0)], 0, [0], "G"), path)
+    assert main(["supcon", "--plant", str(path), "--spec", str(path), "--export-limit", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--export-limit" in err and "got 0" in err

@@ -61,13 +61,16 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..des import symbolic_ops as S
     from ..des.io import read_generator, write_generator
     from ..des.symbolic import from_explicit, to_explicit
-    from ..errors import AlphabetError
+    from ..errors import AlphabetError, InputError
     from ..symbolic.context import Context
     from ..symbolic.ordering import order_components
     from ..synthesis.supcon import lift_spec, supcon
 
     t0 = time.perf_counter()
     budget = budget_from_args(args)
+    if args.export_limit < 1:
+        raise InputError(f"must be at least 1, got {args.export_limit}", value=args.export_limit,
+                         where="--export-limit")
     plant_paths = [str(existing_file(p, "plant file")) for p in args.plant]
     spec_paths = [str(existing_file(p, "specification file")) for p in args.spec]
     plants = [read_generator(p) for p in plant_paths]
