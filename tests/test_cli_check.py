@@ -111,5 +111,5 @@ def test_unknown_fields_are_warned_on_stderr(tmp_path):
     pf = _write(tmp_path, "typo.json", dict(THREE, prority=[3, 2, 1]))
     code, out, err = run("check", pf, plan, "--json")
     assert code == 0 and json.loads(out)["valid"]
-    assert err.strip() == (f"warning: {pf}: unknown field 'prority' ignored (known: layout, kinematics, collision, "
+    assert err.strip() == (f"supcoord: warning: {pf}: unknown field 'prority' ignored (known: layout, kinematics, collision, "
                            "start, target, priority, name, description, comment, preset, seed)")

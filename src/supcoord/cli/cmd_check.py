@@ -56,7 +56,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     problem = load_problem(args.problem)
     plan = load_plan(args.plan, problem)
     for warning in problem.warnings:
-        console.log(f"warning: {warning}")
+        console.warn(warning)
     result = validate_plan(problem, plan, resolution=args.resolution)
     if args.figure:
         from ..positioners.figures_plan import save_plan_figure

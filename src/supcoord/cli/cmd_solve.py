@@ -84,7 +84,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     writable(args.out, "--out")
     problem = load_problem(args.problem)
     for warning in problem.warnings:
-        console.log(f"warning: {warning}")
+        console.warn(warning)
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
                  progress=console.progress)
     kin = problem.kinematics

@@ -153,6 +153,10 @@ class Console:
         if not self.quiet:
             self._print(message)
 
+    def warn(self, message: str) -> None:
+        """A problem the run went past: ``supcoord: warning: …`` (not with ``--quiet``)."""
+        self.log(f"supcoord: warning: {message}")
+
     def error(self, message: str) -> None:
         """The one line of a failure: ``supcoord: error: …`` (also with ``--quiet``)."""
         self.close()
