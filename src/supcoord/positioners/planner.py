@@ -21,8 +21,9 @@ moved since the current simultaneous step began, then the higher priority (small
 number), then the event name — which interleaves positioners so that few simultaneous
 steps hold them.  The single moves are then scheduled into simultaneous steps
 (:mod:`.planner_schedule`: the shorter of the timeline and the as-soon-as-possible
-schedules).  Every complete plan is checked with the independent validator before it
-is returned.
+schedules), and the schedule is shortened by re-planning the positioners that set
+the makespan in space-time (:mod:`.planner_improve`).  Every complete plan is checked
+with the independent validator before it is returned.
 
 References
 ----------
@@ -45,6 +46,7 @@ from ..synthesis.supcon import supcon
 from .coordination import CoordinationModel, GuardedSystem, var_names
 from .plan import Move, Plan, lower_bound
 from .planner_forward import search, witness_layers
+from .planner_improve import improve_plan
 from .planner_schedule import plan_from_schedule
 from .problem import Problem
 from .validate import validate_plan
@@ -225,15 +227,19 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
 
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
-          validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None) -> Plan:
+          validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
+          improve: float | None = None) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
     ``"hex"`` (defaults: rcm for local, hex for monolithic); ``supervisor``: compute
     ``supcon`` before forcibility (default: on for monolithic only); ``greedy``/``levels``:
     the local route's descent and window node caps (:func:`.planner_local.solve_local`;
-    neither changes a verdict).  A budget that runs out raises :class:`BudgetExceeded`
-    whose ``stats`` carry what was learned.
+    neither changes a verdict); ``improve``: seconds for shortening the scheduled plan by
+    space-time re-planning (:mod:`.planner_improve`; None: 30 % of the time spent so far,
+    0.5 to 30 s; 0: off).  ``events`` is the exact single-move witness, the
+    configurations its (improved) simultaneous schedule.  A budget that runs out raises
+    :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
     from ..errors import InputError
     from .planner_local import solve_local
@@ -272,6 +278,11 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     plan = plan_from_schedule(problem, moves)
     stats["schedule"] = plan.stats["schedule"]
     stats["single_moves"] = len(moves)
+    cap = min(30.0, max(0.5, 0.3 * (time.perf_counter() - t0))) if improve is None else float(improve)
+    if cap > 0 and plan.makespan > plan.lower_bound:
+        confs, st = improve_plan(problem, plan.configurations, time_cap=cap)
+        stats.update(makespan_scheduled=plan.makespan, improve_seconds=st["seconds"], improved_groups=st["improved"])
+        plan = Plan("complete", confs, len(confs) - 1, plan.lower_bound, plan.events, "", {})
     stats["seconds"] = time.perf_counter() - t0
     if validate:
         result = validate_plan(problem, plan)

@@ -9,11 +9,10 @@
   returns the BFS distance (the length of a shortest single-move plan, which the
   symbolic ``rank(q0)`` must equal) and one shortest move sequence, or ``None`` when the
   target is not reachable (the problem is infeasible).
-- :func:`optimal_makespan_naive` — the simultaneous semantics for rotary positioners:
-  in one step every positioner moves ``−1``, ``0`` or ``+1``, and the step is allowed when
-  every conflicting pair's simultaneous motion is free
-  (:meth:`CollisionTables.simultaneous`); BFS gives the optimal makespan, the yardstick
-  for the planner's compacted plans.
+- :func:`optimal_makespan_naive` — the simultaneous semantics: in one step every joint
+  of every positioner moves ``−1``, ``0`` or ``+1``, and the step is allowed when every
+  neighbour pair's simultaneous motion is free (:func:`~.collision.motion_collides`);
+  BFS gives the optimal makespan, the yardstick for the planner's scheduled plans.
 
 - :func:`reachable_naive`, :func:`blockers_naive` — a window's reachable set (members
   move, the others frozen or removed) and its blockers, the twins of
@@ -34,6 +33,7 @@ from collections import deque
 import numpy as np
 
 from ..errors import InputError
+from .collision import motion_collides
 from .coordination import blocked_table, conflict_graph
 from .plan import Move
 from .problem import Problem
@@ -92,19 +92,66 @@ def bfs_plan_naive(problem: Problem, start: np.ndarray | None = None) -> tuple[i
     return len(out), out[::-1]
 
 
-def optimal_makespan_naive(problem: Problem) -> int | None:
-    """Fewest simultaneous steps start → target (rotary only), or ``None`` if unreachable."""
+def _step_options(problem: Problem) -> list[np.ndarray]:
+    """Per-step joint deltas of one positioner: ``{−1, 0, +1}^J``, standing first."""
+    nj = problem.kinematics.n_joints
+    opts = [np.array(d, dtype=np.int64) for d in itertools.product((0, 1, -1), repeat=nj)]
+    return opts
+
+
+def _simultaneous_full(problem: Problem, k: int, options: list[np.ndarray], nxt: np.ndarray) -> np.ndarray:
+    """``S[u, v, i, j]``: pair ``k``'s members doing the deltas ``options[u]`` / ``options[v]``
+    from positions ``i`` / ``j`` at once collide, or leave the joint ranges (True)."""
     kin = problem.kinematics
-    if kin.kind != "rotary":
-        raise InputError("optimal_makespan_naive handles rotary kinematics only", value=kin.kind)
+    a, b = (int(x) for x in problem.pairs[k])
+    pos = kin.all_positions()
+    n = len(pos)
+    bsum = problem.buffers[a] + problem.buffers[b]
+    ii, jj = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    ii, jj = ii.ravel(), jj.ravel()
+    out = np.ones((len(options), len(options), n, n), dtype=bool)
+    ok = nxt >= 0  # [u, i]: the deltas stay inside the hard stops
+    for u, du in enumerate(options):
+        for v, dv in enumerate(options):
+            sel = ok[u][ii] & ok[v][jj]
+            hit = motion_collides(kin, problem.bases[a], pos[ii[sel]], du, kin, problem.bases[b], pos[jj[sel]], dv,
+                                  bsum)
+            block = np.ones(n * n, dtype=bool)
+            block[np.nonzero(sel)[0]] = hit
+            out[u, v] = block.reshape(n, n)
+    return out
+
+
+def optimal_makespan_naive(problem: Problem) -> int | None:
+    """Fewest simultaneous steps start → target, or ``None`` if unreachable.
+
+    A step moves every joint of every positioner by −1, 0 or +1 at once (linearly, as
+    the validator interpolates); it is allowed when every neighbour pair's simultaneous
+    motion is free (:func:`~.collision.motion_collides`, computed here table by table).
+    This is the validator's semantics, wider than the single-move model (two arms may
+    pass in tandem), so its optimum is a lower bound for any plan of the planner.
+    Breadth-first search over ``∏ |Q_p|`` configurations and ``3^{J·N}`` steps: for
+    2–4 rotary or 2 alpha-beta positioners."""
+    kin = problem.kinematics
     _check_size(problem)
-    tables = problem.tables()
-    steps = kin.steps
-    pairs = [(int(a), int(b), tables.simultaneous(k)) for k, (a, b) in enumerate(problem.pairs)]
-    s0 = tuple(int(v) for v in problem.start[:, 0])
-    goal = tuple(int(v) for v in problem.target[:, 0])
-    # u = 0 stands, 1 = +1 (moves()[0]), 2 = −1 (moves()[1])
-    combos = [c for c in itertools.product((0, 1, 2), repeat=problem.n) if any(c)]
+    options = _step_options(problem)
+    if len(options) ** problem.n > 10_000:
+        raise InputError(f"{len(options) ** problem.n} simultaneous steps per configuration is too many for "
+                         "the explicit search", value=problem.n)
+    pos = kin.all_positions()
+    nxt = np.full((len(options), len(pos)), -1, dtype=np.int64)
+    for u, d in enumerate(options):
+        for i in range(len(pos)):
+            q = pos[i] + d
+            for j, jt in enumerate(kin.joints):
+                if jt.wraps:
+                    q[j] %= jt.steps
+            if np.all(kin.in_range(q)):
+                nxt[u, i] = int(kin.flat_index(q))
+    pairs = [(int(a), int(b), _simultaneous_full(problem, k, options, nxt)) for k, (a, b) in enumerate(problem.pairs)]
+    s0 = tuple(int(v) for v in kin.flat_index(problem.start))
+    goal = tuple(int(v) for v in kin.flat_index(problem.target))
+    combos = [c for c in itertools.product(range(len(options)), repeat=problem.n) if any(c)]
     dist = {s0: 0}
     queue = deque([s0])
     while queue:
@@ -112,9 +159,11 @@ def optimal_makespan_naive(problem: Problem) -> int | None:
         if s == goal:
             return dist[s]
         for c in combos:
+            if any(nxt[c[p], s[p]] < 0 for p in range(problem.n)):
+                continue
             if any(S[c[a], c[b], s[a], s[b]] for a, b, S in pairs):
                 continue
-            t = tuple((s[p] + (0, 1, -1)[c[p]]) % steps for p in range(problem.n))
+            t = tuple(int(nxt[c[p], s[p]]) for p in range(problem.n))
             if t not in dist:
                 dist[t] = dist[s] + 1
                 queue.append(t)
