@@ -52,7 +52,9 @@ the paper's model  :func:`paper_example`, :func:`random_instance`,
 geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`,
                    :func:`random_problem`, :func:`preset_problem`,
                    :data:`PRESETS`, :class:`Plan`, :func:`load_plan`,
-                   :func:`plan_from_moves`, :func:`validate_plan`
+                   :func:`plan_from_moves`, :func:`validate_plan`,
+                   :func:`solve` (a problem -> a validated plan or a
+                   certificate of infeasibility)
 progress           :func:`progress_bar`, :class:`ProgressBar`,
                    :class:`ProgressLog` (``progress=`` callbacks)
 figures            :func:`plot_problem`, :func:`save_plan_strip`,
@@ -140,6 +142,7 @@ _LAZY: dict[str, str] = {
     "load_plan": "supcoord.positioners.plan",
     "plan_from_moves": "supcoord.positioners.plan",
     "validate_plan": "supcoord.positioners.validate",
+    "solve": "supcoord.positioners.planner",
     # progress of long fixpoints
     "progress_bar": "supcoord.progress",
     "ProgressBar": "supcoord.progress",
@@ -252,6 +255,7 @@ if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
     )
     from .positioners.paper_solve import PaperRun, run_paper, solve_paper
     from .positioners.plan import Plan, load_plan, plan_from_moves
+    from .positioners.planner import solve
     from .positioners.presets import PRESETS, preset_problem
     from .positioners.problem import Problem, load_problem, parse_problem
     from .positioners.random_problems import random_problem
