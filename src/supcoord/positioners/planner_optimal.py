@@ -127,8 +127,9 @@ def optimal_makespan(problem: Problem, *, budget: Budget | None = None, backend:
         quantify_after.setdefault(i, []).extend(ctx.bits(names[p]))
     every = [n for p in range(problem.n) for n in names[p]]
 
-    def image(x: BDD) -> BDD:
+    def image(x: BDD, k: int) -> BDD:
         for i, (_, rel) in enumerate(conjuncts):
+            ctx.check_budget("optimal makespan", iteration=k)  # one image can take minutes
             q = quantify_after.get(i, [])
             x = ctx.and_exist(x, rel, q) if q else x & rel  # ∃ x_p as soon as nothing else reads it
         return ctx.unprime(x, every)
@@ -139,7 +140,7 @@ def optimal_makespan(problem: Problem, *, budget: Budget | None = None, backend:
     k = 0
     while frontier & goal == ctx.false:
         ctx.check_budget("optimal makespan", iteration=k)
-        frontier = image(frontier) & ~seen  # F(k+1) = Img(F(k)) \ W(k)
+        frontier = image(frontier, k) & ~seen  # F(k+1) = Img(F(k)) \ W(k)
         if frontier == ctx.false:
             return {"makespan": None, "layers": sizes, "seconds": time.perf_counter() - t0,
                     "bdd_nodes": ctx.peak_nodes()}
