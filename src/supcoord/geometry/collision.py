@@ -10,15 +10,25 @@ buffers ``r_a``, ``r_b`` *collide* when ``dist(S_a, S_b) < r_a + r_b``.
 - Swept table for a one-step move ``m = (joint, δ)`` of the mover while the other stands
   at ``j``: ``W_m[i, j] = ∃t ∈ [0, 1]. dist(S_mover(i + t·δ·e_joint), S_other(j)) < r_a + r_b``.
 
-Swept checks are *sampled with a certificate*: if every point of both segments moves
-at most ``L`` (mm) along the whole motion (:meth:`Kinematics.sweep_length`), then at
-any time the distance is within ``L·h/2`` of the distance at the nearest of samples
-spaced ``h`` apart (distance between sets is 1-Lipschitz in the points' displacement).
-So ``min_k d(t_k) ≥ r + L·h/2`` proves the motion free and ``min_k d(t_k) < r`` proves a
+*Collides* means ``dist < r_a + r_b`` (strictly; touching at exactly ``r_a + r_b`` is
+free) — the one definition shared with the validator (:mod:`supcoord.problems.validate`).
+
+Swept tables are **exact**: a single-joint move turns the colliding segment rigidly about
+a fixed centre (:meth:`Kinematics.rotation`), and the least distance over the turn has a
+closed form (:func:`.sweep.rotation_clearance`), so every entry ``W_m[i, j]`` is decided
+with no tolerance (to floating-point rounding).  The verdicts and certificates of the
+planner rest only on these tables and the static ones.
+
+Motions of several joints at once (both positioners of a pair, or two joints of one:
+the schedules and the simultaneous semantics, never a verdict) are *sampled with a
+certificate* (:func:`motion_collides`): if every point of both segments moves at most
+``L`` (mm) along the whole motion (:meth:`Kinematics.sweep_length`), then at any time the
+distance is within ``L·h/2`` of the distance at the nearest of samples spaced ``h``
+apart (distance between sets is 1-Lipschitz in the points' displacement).  So
+``min_k d(t_k) ≥ r + L·h/2`` proves the motion free and ``min_k d(t_k) < r`` proves a
 collision; undecided entries are resampled ever more finely, and whatever is still
-undecided at the tolerance ``tol`` is reported as colliding.  The tables are therefore
-*conservative by at most* ``tol`` mm: a plan they allow always passes the validator,
-which samples the same motions directly (:mod:`supcoord.problems.validate`).
+undecided at the tolerance ``tol`` (default 1e-6 mm) is reported as colliding: such a
+motion is only ever left out of a plan, so a plan stays valid.
 
 Distances between segments are those of :mod:`.segments` (re-exported here).
 
@@ -37,11 +47,14 @@ import numpy as np
 from ..errors import InputError
 from .kinematics import Kinematics
 from .segments import point_segment_distance, segment_distance
+from .sweep import rotation_clearance
 
 __all__ = [
     "segment_distance",
     "point_segment_distance",
+    "rotation_clearance",
     "neighbour_pairs",
+    "turn_collides",
     "placed_segments",
     "static_table",
     "swept_table",
@@ -53,8 +66,8 @@ __all__ = [
     "DEFAULT_TOL",
 ]
 
-#: default tolerance (mm) of the swept certificate
-DEFAULT_TOL = 1e-3
+#: default tolerance (mm) of the sampled certificate of simultaneous motions
+DEFAULT_TOL = 1e-6
 #: largest table (position pairs of one neighbour pair) built explicitly; finer
 #: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
 MAX_TABLE_ENTRIES = 50_000_000
@@ -108,8 +121,9 @@ def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
 
     All position/delta arrays are ``(..., J)``, bases ``(..., 2)``, ``bsum`` ``(...)``; they
     broadcast against each other (bases may differ per entry); the result is a bool
-    array over the broadcast leading shape.  Sampled with the certificate of the module
-    docstring; conservative by at most ``tol`` mm.
+    array over the broadcast leading shape.  Entries where one positioner moves one
+    joint and the other stands are exact (:func:`turn_collides`); the others are sampled
+    with the certificate of the module docstring, conservative by at most ``tol`` mm.
     """
     if not tol > 0:
         raise InputError(f"tol must be positive, got {tol!r}", value=tol)
@@ -126,7 +140,18 @@ def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
     base_b = np.broadcast_to(np.asarray(base_b, float), lead + (2,)).reshape(-1, 2)
     length = kin_a.sweep_length(da) + kin_b.sweep_length(db)  # (E,)
     result = np.zeros(len(qa), dtype=bool)
-    todo = np.arange(len(qa))
+    moving_a, moving_b = (da != 0).sum(axis=1), (db != 0).sum(axis=1)
+    exact = np.zeros(len(qa), dtype=bool)
+    for side, (kin_m, kin_s, qm, dm, qs, bm, bs, n_m, n_s) in enumerate((
+            (kin_a, kin_b, qa, da, qb, base_a, base_b, moving_a, moving_b),
+            (kin_b, kin_a, qb, db, qa, base_b, base_a, moving_b, moving_a))):
+        for joint in range(kin_m.n_joints):
+            sel = np.nonzero((n_m == 1) & (n_s == 0) & (dm[:, joint] != 0))[0]
+            if len(sel):
+                result[sel] = turn_collides(kin_m, bm[sel], qm[sel], joint, dm[sel, joint], kin_s, bs[sel], qs[sel],
+                                            bsum[sel])
+                exact[sel] = True
+    todo = np.nonzero(~exact)[0]
     intervals = coarse
     while len(todo):
         eps = length[todo] / (2 * intervals)
@@ -150,6 +175,30 @@ def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
     return result.reshape(lead)
 
 
+def turn_collides(kin_m: Kinematics, base_m: Any, qm: Any, joint: int, delta: Any,
+                  kin_s: Kinematics, base_s: Any, qs: Any, bsum: Any) -> np.ndarray:
+    """Exact swept check of single-joint moves: does the mover (at ``qm``, ``(E, J)``) moving
+    ``joint`` by ``delta`` (``(E,)``) come closer than ``bsum`` to the other standing at ``qs``?
+
+    The least distance over the move is :func:`.sweep.rotation_clearance` of the mover's
+    segment turned by :meth:`Kinematics.rotation`; bases are ``(E, 2)`` or ``(2,)``.
+    """
+    qm, qs = np.asarray(qm, float), np.asarray(qs, float)
+    base_m, base_s = np.asarray(base_m, float), np.asarray(base_s, float)
+    delta, bsum = np.asarray(delta, float), np.asarray(bsum, float)
+    out = np.empty(len(qm), dtype=bool)
+    for lo in range(0, len(qm), CHUNK):
+        sl = slice(lo, lo + CHUNK)
+        bm = base_m[sl] if base_m.ndim == 2 else base_m
+        bs = base_s[sl] if base_s.ndim == 2 else base_s
+        d = np.broadcast_to(delta, (len(qm),))[sl]
+        centre, angle = kin_m.rotation(qm[sl], joint, d)
+        clearance = rotation_clearance(placed_segments(kin_m, bm, qm[sl]), centre + bm, angle,
+                                       placed_segments(kin_s, bs, qs[sl]))
+        out[sl] = clearance < np.broadcast_to(bsum, (len(qm),))[sl]
+    return out
+
+
 def distance_table(kin: Kinematics, base_a: Any, base_b: Any, kin_b: Kinematics | None = None) -> np.ndarray:
     """``D[i, j]`` = distance between the colliding segments of ``a`` at ``i`` and ``b`` at ``j``."""
     kin_b = kin_b or kin
@@ -166,9 +215,8 @@ def distance_table(kin: Kinematics, base_a: Any, base_b: Any, kin_b: Kinematics 
     return out
 
 
-def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: int = 0,
-                tol: float = DEFAULT_TOL, kin_b: Kinematics | None = None,
-                distances: np.ndarray | None = None) -> np.ndarray:
+def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: int = 0, *,
+                kin_b: Kinematics | None = None, distances: np.ndarray | None = None) -> np.ndarray:
     """``W[m, i, j]``: the one-step move ``moves()[m]`` of the mover collides somewhere.
 
     ``mover = 0``: ``a`` moves from position ``i`` while ``b`` stands at ``j``; ``mover = 1``:
@@ -179,7 +227,7 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
     The end-point distances ``d0``, ``d1`` (from :func:`distance_table`) settle most
     entries: ``min(d0, d1) < r`` collides, and since the distance changes at rate at most
     ``L`` (the sweep length), ``d(t) ≥ max(d0 − tL, d1 − (1−t)L) ≥ (d0 + d1 − L)/2``, so
-    ``(d0 + d1 − L)/2 ≥ r`` is free; only the rest is sampled by :func:`motion_collides`.
+    ``(d0 + d1 − L)/2 ≥ r`` is free; the rest is decided exactly by :func:`turn_collides`.
     """
     kin_b = kin_b or kin
     if distances is None:
@@ -201,11 +249,8 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
         ii, jj = np.nonzero(block)
         res = hit.copy()
         if len(ii):
-            qm = pm[valid][ii]
-            if mover == 0:
-                res[ii, jj] = motion_collides(kin, base_a, qm, d, kin_b, base_b, ps[jj], np.zeros(sk.n_joints), bsum, tol)
-            else:
-                res[ii, jj] = motion_collides(kin, base_a, ps[jj], np.zeros(sk.n_joints), kin_b, base_b, qm, d, bsum, tol)
+            bm, bs = (base_a, base_b) if mover == 0 else (base_b, base_a)
+            res[ii, jj] = turn_collides(mk, bm, pm[valid][ii], joint, delta, sk, bs, ps[jj], bsum)
         out[m, valid] = res
     return out if mover == 0 else np.swapaxes(out, 1, 2)
 
@@ -316,7 +361,7 @@ class CollisionTables:
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, 1 - mover)
             if mirror in self._swept:  # b moving past a at offset o is a moving past b at −o
                 return np.swapaxes(self._swept[mirror], 1, 2)
-            self._swept[key] = swept_table(self.kin, (0.0, 0.0), (ox, oy), bsum, mover, self.tol,
+            self._swept[key] = swept_table(self.kin, (0.0, 0.0), (ox, oy), bsum, mover,
                                            distances=self._distances((ox, oy)))
         return self._swept[key]
 

@@ -196,6 +196,15 @@ class Kinematics:
         """Bound on the path length of any point of the colliding segment for ``q → q + delta``."""
         raise NotImplementedError
 
+    def rotation(self, q: Any, joint: int, delta: Any) -> tuple[np.ndarray, np.ndarray]:
+        """A single-joint move as a rigid turn of the colliding segment: ``(centre, angle)``.
+
+        For positions ``q`` (``(..., J)``) and steps ``delta`` of ``joint``, the segment of
+        ``q + t·delta·e_joint`` is the segment of ``q`` turned by ``t·angle`` (radians,
+        counter-clockwise positive) about ``centre`` (``(..., 2)``, relative to the base).
+        """
+        raise NotImplementedError
+
     def fibre(self, q: Any) -> np.ndarray:
         return self.segments(q)[..., 1, :]
 
@@ -270,6 +279,11 @@ class Rotary(Kinematics):
         delta = np.asarray(delta, dtype=float)
         return self.arm * np.abs(delta[..., 0]) * 2 * np.pi / self.steps
 
+    def rotation(self, q: Any, joint: int, delta: Any) -> tuple[np.ndarray, np.ndarray]:
+        q = np.asarray(q, dtype=float)
+        angle = -2 * np.pi * np.broadcast_to(np.asarray(delta, float), q.shape[:-1]) / self.steps
+        return np.zeros(q.shape[:-1] + (2,)), angle
+
     def to_json(self) -> dict:
         return {"kind": "rotary", "arm": self.arm, "steps": self.steps}
 
@@ -329,11 +343,15 @@ class AlphaBeta(Kinematics):
 
     @property
     def reach(self) -> float:
+        """``max(alpha, max_β |fibre|)``: the distance from the base is convex along the beta
+        arm, so its farthest point is an end — the elbow (at ``alpha``) or the fibre, at
+        ``√(a² + b² + 2ab·cos β)``, largest where ``cos β`` is over ``[lo, hi]``."""
         lo, hi = np.radians(self.beta_range)
         # max over β ∈ [lo, hi] of cos β: 1 if a multiple of 2π lies inside, else at an end
         k = math.ceil(lo / (2 * math.pi))
         cmax = 1.0 if 2 * math.pi * k <= hi else max(math.cos(lo), math.cos(hi))
-        return math.sqrt(self.alpha**2 + self.beta**2 + 2 * self.alpha * self.beta * cmax)
+        fibre = math.sqrt(max(0.0, self.alpha**2 + self.beta**2 + 2 * self.alpha * self.beta * cmax))
+        return max(self.alpha, fibre)
 
     def segments(self, q: Any) -> np.ndarray:
         a, b = self.angles(q)
@@ -348,6 +366,14 @@ class AlphaBeta(Kinematics):
         da = np.abs(delta[..., 0]) * 2 * np.pi / self.alpha_steps
         db = np.abs(delta[..., 1]) * self.beta_step_rad
         return self.reach * da + self.beta * db
+
+    def rotation(self, q: Any, joint: int, delta: Any) -> tuple[np.ndarray, np.ndarray]:
+        # alpha turns the whole arm about the base; beta turns the beta arm about the elbow
+        q = np.asarray(q, dtype=float)
+        delta = np.broadcast_to(np.asarray(delta, float), q.shape[:-1])
+        if joint == 0:
+            return np.zeros(q.shape[:-1] + (2,)), 2 * np.pi * delta / self.alpha_steps
+        return self.segments(q)[..., 0, :], delta * self.beta_step_rad
 
     def to_json(self) -> dict:
         return {"kind": "alpha-beta", "alpha": self.alpha, "beta": self.beta, "alpha_steps": self.alpha_steps,

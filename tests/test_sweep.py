@@ -1,0 +1,154 @@
+"""Exact swept checks, the true reach and sweep length, against dense brute force.
+
+The brute force here uses the validator's segment distance (an independent algorithm) on
+densely sampled poses, so it shares no formula with :mod:`supcoord.geometry.sweep`.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from supcoord.geometry import AlphaBeta, Rotary
+from supcoord.geometry.collision import static_table, swept_table
+from supcoord.geometry.sweep import arc_segment_distance, rotation_clearance
+from supcoord.planning.planner import solve
+from supcoord.problems.problem import parse_problem
+from supcoord.problems.validate import segment_distance_ericson, validate_plan
+
+
+def _turn(points, centre, phi):
+    """Points ``(..., 2)`` turned by the angles ``phi`` ``(S,)`` about ``centre``: ``(S, ..., 2)``."""
+    rel = np.asarray(points, float) - centre
+    c, s = np.cos(phi), np.sin(phi)
+    c, s = c.reshape((-1,) + (1,) * (rel.ndim - 1)), s.reshape((-1,) + (1,) * (rel.ndim - 1))
+    return centre + np.stack([c * rel[..., 0] - s * rel[..., 1], s * rel[..., 0] + c * rel[..., 1]], axis=-1)
+
+
+def _dense_turn_min(seg, centre, angle, other, samples=40001):
+    moved = _turn(seg, np.asarray(centre, float), np.linspace(0.0, angle, samples))
+    other = np.asarray(other, float)
+    return float(segment_distance_ericson(moved[:, 0], moved[:, 1], other[0], other[1]).min())
+
+
+@pytest.mark.timeout(120)
+def test_rotation_clearance_vs_dense_sampling():
+    rng = np.random.default_rng(7)
+    for trial in range(400):
+        seg, other = rng.uniform(-6, 6, (2, 2, 2))
+        centre = seg[0] if trial % 3 == 0 else rng.uniform(-4, 4, 2)  # beta turns about an end
+        angle = rng.uniform(-1.2, 1.2)
+        exact = float(rotation_clearance(seg, centre, angle, other))
+        dense = _dense_turn_min(seg, centre, angle, other)
+        lever = max(np.linalg.norm(seg - centre, axis=1).max(), np.linalg.norm(other - centre, axis=1).max())
+        step = lever * abs(angle) / 40000
+        assert exact <= dense + 1e-9, (trial, exact, dense)  # every sample is an actual pose
+        assert dense <= exact + step + 1e-9, (trial, exact, dense)  # and one lies within a step of the minimum
+
+
+def test_arc_segment_distance_cases():
+    # the arc's interior point nearest to the segment (radius normal to it)
+    assert math.isclose(float(arc_segment_distance([0, 0], [1, 0], math.pi, [-3, 2], [3, 2])), 1.0)
+    # the same arc turned the other way never comes near the segment above the x axis
+    assert math.isclose(float(arc_segment_distance([0, 0], [1, 0], -math.pi / 2, [-3, 2], [3, 2])), 2.0)
+    # a point-like segment: its distance to the arc
+    assert math.isclose(float(arc_segment_distance([0, 0], [2, 0], math.pi / 2, [0, 3], [0, 3])), 1.0)
+    # a point on the centre does not move
+    assert math.isclose(float(arc_segment_distance([1, 1], [1, 1], 1.0, [1, 4], [5, 4])), 3.0)
+
+
+@pytest.mark.parametrize("beta_range", [(0.0, 180.0), (150.0, 180.0), (-30.0, 60.0), (90.0, 270.0), (-200.0, -170.0)])
+@pytest.mark.parametrize("arms", [(10.0, 5.0), (7.4, 15.0), (3.0, 3.0)])
+def test_alpha_beta_reach_is_the_true_maximum(beta_range, arms):
+    kin = AlphaBeta(arms[0], arms[1], 6, 4, beta_range)
+    alpha, beta = np.meshgrid(np.linspace(0, 2 * np.pi, 73), np.radians(np.linspace(*beta_range, 2001)))
+    s = np.linspace(0, 1, 21)[:, None, None]
+    x = arms[0] * np.cos(alpha) + s * arms[1] * np.cos(alpha + beta)
+    y = arms[0] * np.sin(alpha) + s * arms[1] * np.sin(alpha + beta)
+    brute = float(np.hypot(x, y).max())
+    assert brute <= kin.reach + 1e-9
+    assert kin.reach <= brute + 1e-3 * max(arms)
+
+
+@pytest.mark.parametrize("beta_range", [(0.0, 180.0), (150.0, 180.0), (-30.0, 60.0)])
+def test_sweep_length_bounds_every_point_path(beta_range):
+    kin = AlphaBeta(10.0, 5.0, 8, 5, beta_range)
+    rng = np.random.default_rng(3)
+    t = np.linspace(0, 1, 401)[:, None, None]
+    for joint, delta in kin.moves():
+        d = np.zeros(2)
+        d[joint] = delta
+        bound = float(kin.sweep_length(d))
+        for q in rng.uniform([0, 0], [8, 4], (30, 2)):
+            seg = kin.segments(q + t * d)  # (T, 1, 2, 2)
+            for s in np.linspace(0, 1, 11):
+                path = seg[:, 0, 0] + s * (seg[:, 0, 1] - seg[:, 0, 0])
+                assert np.linalg.norm(np.diff(path, axis=0), axis=1).sum() <= bound + 1e-9
+
+
+def test_folded_beta_range_finds_the_elbow_pair():
+    """alpha 10, beta 5, beta in [150°, 180°], bases 16 mm apart: only the elbows can meet."""
+    data = {"layout": {"kind": "points", "xy": [[0, 0], [16, 0]]},
+            "kinematics": {"kind": "alpha-beta", "alpha": 10, "beta": 5, "alpha_steps": 8, "beta_steps": 3,
+                           "beta_range": [150, 180]},
+            "collision": {"buffer": 1.0}, "start": [[0, 0], [4, 0]], "target": [[0, 0], [4, 0]]}
+    kin = AlphaBeta(10, 5, 8, 3, (150, 180))
+    assert kin.reach == 10.0
+    with pytest.raises(Exception, match="collide"):  # both elbows pointing at each other: 4 mm apart
+        parse_problem(data)
+    data["start"] = data["target"] = [[4, 0], [0, 0]]  # both pointing away
+    problem = parse_problem(data)
+    assert problem.pairs.tolist() == [[0, 1]]
+    data["target"] = [[0, 0], [0, 0]]
+    plan = solve(parse_problem(data))
+    assert plan.status == "complete" and validate_plan(parse_problem(data), plan)["valid"]
+
+
+def _tight_pass(clearance):
+    """Rotary a turns 0 → 1 (0° → −30°) past b's fibre with ``clearance`` mm to spare over
+    the buffers; the long way round is blocked by c's base, so the tight pass is the only route."""
+    kin, bsum = Rotary(10.0, 12), 2.0
+    direction = np.array([math.cos(math.radians(-15)), math.sin(math.radians(-15))])
+    seg_b = np.array([[0.0, 0.0], [-10.0, 0.0]])  # b at position 6: pointing −x
+
+    def gap(dist):
+        other = seg_b + dist * direction
+        return float(rotation_clearance(kin.segments([0.0]), [0, 0], -math.pi / 6, other)) - bsum
+
+    lo, hi = 15.0, 30.0
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if gap(mid) < clearance else (lo, mid)
+    base_b = hi * direction
+    data = {"layout": {"kind": "points", "xy": [[0, 0], base_b.tolist(), [-11.0, 0.0]]},
+            "kinematics": {"kind": "rotary", "arm": 10, "steps": 12}, "collision": {"buffer": 1.0},
+            "start": [0, 6, 6], "target": [1, 6, 6]}
+    return parse_problem(data), base_b
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("clearance", [5e-4, 1.2e-4, 1e-7])
+def test_tight_pass_is_free_and_solved(clearance):
+    problem, base_b = _tight_pass(clearance)
+    kin = problem.kinematics
+    dense = _dense_turn_min(kin.segments([0.0]), [0, 0], -math.pi / 6, np.array([[0.0, 0.0], [-10.0, 0.0]]) + base_b,
+                            samples=200001)
+    assert 2.0 + clearance - 1e-9 <= dense <= 2.0 + clearance + 1e-6  # independent: the pass really has that clearance
+    m = kin.moves().index((0, +1))
+    assert not swept_table(kin, (0, 0), base_b, 2.0, 0)[m, 0, 6]
+    plan = solve(problem)
+    assert plan.status == "complete" and plan.makespan == 1
+    assert validate_plan(problem, plan)["valid"]
+
+
+@pytest.mark.timeout(60)
+def test_tight_pass_that_grazes_is_blocked():
+    problem, base_b = _tight_pass(-1e-6)  # 1 µm inside the buffers: a collision
+    kin = problem.kinematics
+    m = kin.moves().index((0, +1))
+    assert not static_table(kin, (0, 0), base_b, 2.0)[0, 6] and not static_table(kin, (0, 0), base_b, 2.0)[1, 6]
+    assert swept_table(kin, (0, 0), base_b, 2.0, 0)[m, 0, 6]
+    plan = solve(problem)  # b has to turn out of the way and back
+    assert plan.status == "complete" and validate_plan(problem, plan)["valid"]
+    assert plan.stats["single_moves"] >= 3
+    assert any(c[1] != 6 for c in plan.configurations)
