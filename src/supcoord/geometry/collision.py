@@ -342,8 +342,7 @@ class CollisionTables:
     def static(self, k: int) -> np.ndarray:
         key = self._key(k)
         if key not in self._static:
-            (ox, oy), bsum = key
-            self._static[key] = self._distances(key[0]) < bsum
+            self._static[key] = self._distances(key[0]) < key[1]
         return self._static[key]
 
     def _distances(self, offset: tuple[float, float]) -> np.ndarray:
