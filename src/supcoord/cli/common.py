@@ -12,11 +12,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from ..bdd.budget import MAX_TIMEOUT, current_rss
 from ..bdd.context import Budget
 from ..errors import InputError
 
 __all__ = ["CommandResult", "Console", "command_parser", "add_common_options", "add_problem_argument", "to_jsonable",
-           "budget_from_args", "existing_file"]
+           "budget_from_args", "existing_file", "parse_size"]
 
 
 @dataclass
@@ -52,6 +53,9 @@ def add_common_options(p: argparse.ArgumentParser, *, budgets: bool = True) -> N
                        help="stop cleanly (exit 3) beyond N live BDD nodes (default: what fits in 80%% of "
                             "the memory available at start, at 80 bytes per node)")
         p.add_argument("--timeout", type=float, metavar="SECONDS", help="stop cleanly (exit 3) after SECONDS")
+        p.add_argument("--max-memory", metavar="SIZE",
+                       help="stop cleanly (exit 3) when the process's resident memory passes SIZE (bytes, or "
+                            "with a unit: 500M, 8G; default: 90%% of the memory available at start)")
         p.add_argument("--backend", choices=["auto", "cudd", "autoref"], default="auto", help="BDD backend (default: CUDD if available)")
 
 
@@ -83,19 +87,50 @@ def default_max_nodes() -> int | None:
     return None if mem is None else max(1, int(mem * MEMORY_SHARE / BYTES_PER_NODE))
 
 
+#: share of the memory available at start that the default memory budget lets the process hold
+RSS_SHARE = 0.9
+_UNITS = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+
+
+def parse_size(text: str, where: str = "--max-memory") -> int:
+    """``"8G"`` → bytes (units K, M, G, T in powers of 1024, optional ``B``/``iB``);
+    anything else is a one-line :class:`InputError` naming the option."""
+    t = str(text).strip().upper().removesuffix("IB").removesuffix("B")
+    unit = t[-1:] if t[-1:] in _UNITS and t[-1:] else ""
+    number = t[: len(t) - len(unit)]
+    try:
+        value = float(number) * _UNITS[unit]
+    except ValueError:
+        raise InputError(f"must be a size such as 500M or 8G, got {text!r}", value=text, where=where) from None
+    if not (value >= 2**20 and math.isfinite(value) and value <= 2**60):
+        raise InputError(f"must be between 1M and 1024P, got {text!r}", value=text, where=where)
+    return int(value)
+
+
+def default_max_memory() -> int | None:
+    """The memory budget when ``--max-memory`` is not given: the resident size now plus 90 %
+    of the memory available at start, so the run stops with exit 3 before the kernel's
+    out-of-memory killer ends it (no JSON, exit 137)."""
+    mem = available_memory()
+    return None if mem is None else current_rss() + int(mem * RSS_SHARE)
+
+
 def budget_from_args(args: argparse.Namespace) -> Budget:
-    """The :class:`Budget` of ``--max-nodes``/``--timeout`` (default node budget:
-    :func:`default_max_nodes`); bad values are a one-line user error."""
+    """The :class:`Budget` of ``--max-nodes``/``--timeout``/``--max-memory`` (defaults:
+    :func:`default_max_nodes`, no time limit, :func:`default_max_memory`); bad values are a
+    one-line user error naming the option."""
     max_nodes = getattr(args, "max_nodes", None)
     timeout = getattr(args, "timeout", None)
+    size = getattr(args, "max_memory", None)
     if max_nodes is not None and max_nodes <= 0:
         raise InputError(f"must be a positive number of nodes, got {max_nodes}", value=max_nodes, where="--max-nodes")
-    if timeout is not None and not (timeout > 0 and math.isfinite(timeout)):
-        raise InputError(f"must be a positive number of seconds, got {timeout}", value=timeout,
-                         where="--timeout")
+    if timeout is not None and not (timeout > 0 and math.isfinite(timeout) and timeout <= MAX_TIMEOUT):
+        raise InputError(f"must be a positive number of seconds up to {MAX_TIMEOUT:.0f} (a year), got {timeout}",
+                         value=timeout, where="--timeout")
+    max_memory = parse_size(size) if size is not None else default_max_memory()
     if max_nodes is None:
         max_nodes = default_max_nodes()
-    return Budget(max_nodes=max_nodes, timeout=timeout)
+    return Budget(max_nodes=max_nodes, timeout=timeout, max_memory=max_memory)
 
 
 def existing_file(path: str, what: str = "file") -> Path:

@@ -15,21 +15,21 @@ import argparse
 import contextlib
 import importlib
 import json
-import math
 import signal
 import sys
 import threading
 import time
-from typing import Iterator, Sequence
+from typing import Callable, Iterator, Sequence
 
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
-from .common import CommandResult, Console, add_common_options, command_parser, to_jsonable
+from ..bdd.budget import current_rss
+from .common import CommandResult, Console, add_common_options, budget_from_args, command_parser, to_jsonable
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: command modules, in the order ``--help`` lists them
-COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check"]
+COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check", "study"]
 
 
 EPILOG = """examples:
@@ -39,6 +39,7 @@ EPILOG = """examples:
   supcoord force V.gen --json                     CCC: forcible? rank, witness, layers
   supcoord solve problem.json --out plan.json --figure plan.gif
   supcoord check problem.json plan.json
+  supcoord study run study.toml --workers 2       a declared grid of cases on Dask, results in a database
 
 exit status: 0 an answer (also 'infeasible' or 'not forcible'); 2 a user error (one line on
 stderr naming the file, field or option); 3 a budget (--timeout, --max-nodes) ran out
@@ -101,8 +102,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     console = Console.from_args(args)
+    restore = _interrupt_once()
     try:
-        with _watchdog(getattr(args, "timeout", None), console):
+        with _watchdog(args, console):
             result: CommandResult = args.func(args, console)
     except BudgetExceeded as exc:
         reason = exc.one_line()
@@ -125,6 +127,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     finally:
         console.close()
+        restore()
     try:
         if args.json:
             print(json.dumps(to_jsonable(result.payload)), flush=True)
@@ -148,38 +151,75 @@ def _silence_stdout() -> None:
         pass
 
 
+def _interrupt_once() -> Callable[[], None]:
+    """While a command works, the first Ctrl-C raises ``KeyboardInterrupt`` (a clean stop,
+    exit 130) and later ones are ignored, so a second interrupt during the clean-up
+    cannot turn into a traceback.  Returns the function that restores the previous handler."""
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    fired = []
+
+    def handler(signum, frame):  # noqa: ARG001
+        if not fired:
+            fired.append(True)
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, handler)
+    return lambda: signal.signal(signal.SIGINT, previous)
+
+
 #: seconds past ``--timeout`` after which the watchdog interrupts code between fixpoint
 #: iterations (model building, counting, export), where ``check_budget`` cannot
-WATCHDOG_GRACE = 1.0
+WATCHDOG_GRACE = 0.5
+#: seconds between two looks of the watchdog at the clock and the resident memory
+WATCHDOG_TICK = 0.25
 
 
 @contextlib.contextmanager
-def _watchdog(timeout: float | None, console: Console) -> Iterator[None]:
-    """Enforce ``--timeout`` also where no fixpoint checks it: a ``SIGALRM`` at
-    ``timeout + WATCHDOG_GRACE`` raises :class:`BudgetExceeded` with the last progress
-    report as partial statistics.  (A single BDD operation still runs to its end: the
-    handler runs when the interpreter gets control back.)  POSIX main thread only;
-    elsewhere the fixpoints' own checks are the budget."""
-    usable = (timeout is not None and timeout > 0 and math.isfinite(timeout) and hasattr(signal, "setitimer")
+def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
+    """Enforce ``--timeout`` and ``--max-memory`` also where no fixpoint checks them: a
+    ``SIGALRM`` every :data:`WATCHDOG_TICK` seconds raises :class:`BudgetExceeded` (with
+    the last progress report as partial statistics) once the time passes ``timeout +
+    WATCHDOG_GRACE`` or the resident memory passes the memory budget.  (A single BDD or
+    numpy operation still runs to its end: the handler runs when the interpreter gets
+    control back.)  POSIX main thread only; elsewhere the fixpoints' own checks are the
+    budget.  Bad values of the options are refused here, before any work."""
+    if not getattr(args, "func", None) or not hasattr(args, "timeout"):
+        yield
+        return
+    budget = budget_from_args(args)
+    timeout, max_memory = budget.timeout, budget.max_memory
+    usable = ((timeout is not None or max_memory is not None) and hasattr(signal, "setitimer")
               and threading.current_thread() is threading.main_thread())
     if not usable:
         yield
         return
     started = time.perf_counter()
 
-    def expire(signum, frame):  # noqa: ARG001
-        elapsed = time.perf_counter() - started
+    def where_and_stats() -> tuple[str, dict]:
         if console.last is None:
-            where, stats = "before any fixpoint reported (setting up)", {"stage": "setup"}
-        else:
-            stage, info = console.last
-            where = f"after the last report of {stage}"
-            stats = {"stage": stage, **{k: v for k, v in info.items() if k != "nodes"}, "bdd_nodes": info.get("nodes")}
-        raise BudgetExceeded(f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
-                             stats={**stats, "seconds": elapsed, "watchdog": True}, value=timeout)
+            return "before any fixpoint reported (setting up)", {"stage": "setup"}
+        stage, info = console.last
+        stats = {"stage": stage, **{k: v for k, v in info.items() if k != "nodes"}, "bdd_nodes": info.get("nodes")}
+        return f"after the last report of {stage}", stats
 
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, timeout + WATCHDOG_GRACE)
+    def tick(signum, frame):  # noqa: ARG001
+        elapsed = time.perf_counter() - started
+        if timeout is not None and elapsed > timeout + WATCHDOG_GRACE:
+            where, stats = where_and_stats()
+            raise BudgetExceeded(f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
+                                 stats={**stats, "seconds": elapsed, "watchdog": True}, value=timeout)
+        if max_memory is not None:
+            rss = current_rss()
+            if rss > max_memory:
+                where, stats = where_and_stats()
+                raise BudgetExceeded(f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident > "
+                                     f"{max_memory / 2**20:.0f} MiB",
+                                     stats={**stats, "seconds": elapsed, "rss_bytes": rss, "watchdog": True},
+                                     value=max_memory)
+
+    previous = signal.signal(signal.SIGALRM, tick)
+    signal.setitimer(signal.ITIMER_REAL, WATCHDOG_TICK, WATCHDOG_TICK)
     try:
         yield
     finally:
