@@ -18,21 +18,23 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 ALLOWED: dict[str, set[str]] = {
     "errors": set(),
     "progress": {"errors"},
+    "outputs": {"errors"},
     "bdd": {"errors", "progress"},
-    "des": {"bdd", "errors", "progress"},
+    "des": {"bdd", "errors", "progress", "outputs"},
     "synthesis": {"des", "bdd", "errors", "progress"},
     "geometry": {"errors"},
-    "problems": {"geometry", "errors"},
-    "paper": {"synthesis", "des", "bdd", "geometry", "errors", "progress"},
+    "problems": {"geometry", "errors", "outputs"},
+    "paper": {"synthesis", "des", "bdd", "geometry", "errors", "progress", "outputs"},
     "planning": {"problems", "geometry", "synthesis", "des", "bdd", "errors", "progress"},
-    "figures": {"problems", "geometry", "errors"},
+    "figures": {"problems", "geometry", "errors", "outputs"},
     "testing": {"planning", "problems", "geometry", "bdd", "errors"},
+    "study": {"paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd", "errors", "progress"},
     # the command line reads __version__ from the top level
     "cli": {"__init__", "paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd",
-            "errors", "progress"},
+            "errors", "progress", "study", "outputs"},
     # the top level re-exports lazily; _compat forwards old names on demand (importlib)
     "__init__": {"errors", "_compat", "des", "synthesis", "bdd", "paper", "geometry", "problems", "planning",
-                 "figures", "progress"},
+                 "figures", "progress", "outputs"},
     "_compat": set(),
 }
 MAX_LINES = 400

@@ -48,7 +48,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
     if not args.resolution > 0:
         raise InputError(f"--resolution must be positive, got {args.resolution}", value=args.resolution)
-    figure_suffix(args.figure)
+    figure_suffix(args.figure, [args.problem, args.plan])
     problem = load_problem(args.problem)
     plan = load_plan(args.plan, problem)
     for warning in problem.warnings:

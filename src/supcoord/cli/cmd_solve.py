@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Sequence
 
 from .common import CommandResult, Console, add_problem_argument, budget_from_args
 
@@ -48,8 +49,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--order", choices=["rcm", "hex"], help="variable order (default: rcm for local, hex for monolithic)")
 
 
-def figure_suffix(path: str | None) -> str | None:
-    """The ``--figure`` file's suffix, refused (exit 2) unless it is one of :data:`FIGURE_SUFFIXES`."""
+def figure_suffix(path: str | None, inputs: Sequence[str] = ()) -> str | None:
+    """The ``--figure`` file's suffix, refused (exit 2) before any work unless it is one of
+    :data:`FIGURE_SUFFIXES` and a file supcoord may write (:func:`writable`)."""
     from ..errors import InputError
 
     if path is None:
@@ -57,18 +59,18 @@ def figure_suffix(path: str | None) -> str | None:
     suffix = Path(path).suffix.lower()
     if suffix not in FIGURE_SUFFIXES:
         raise InputError(f"--figure must end in {', '.join(FIGURE_SUFFIXES)}, got {path!r}", value=path)
-    writable(path, "--figure")
+    writable(path, "--figure", inputs)
     return suffix
 
 
-def writable(path: str | None, flag: str) -> None:
-    """Refuse (exit 2) an output path whose directory does not exist, before any work is done."""
-    from ..errors import InputError
+def writable(path: str | None, flag: str, inputs: Sequence[str] = ()) -> None:
+    """Refuse (exit 2), before any work is done, an output path that is one of the
+    ``inputs``, a link, a directory, FIFO or device, or in a missing or read-only
+    directory (:func:`supcoord.outputs.check_output`)."""
+    from ..outputs import check_output
 
-    if path is not None and not Path(path).resolve().parent.is_dir():
-        raise InputError(f"{flag}: directory {str(Path(path).parent)!r} does not exist", value=path)
-    if path is not None and Path(path).is_dir():
-        raise InputError(f"{flag}: {path!r} is a directory, not a file name", value=path)
+    if path is not None:
+        check_output(path, inputs, what=flag)
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
@@ -76,8 +78,12 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..problems.problem import load_problem
 
     budget = budget_from_args(args)
-    figure_suffix(args.figure)
-    writable(args.out, "--out")
+    figure_suffix(args.figure, [args.problem])
+    writable(args.out, "--out", [args.problem])
+    if args.out and args.figure and Path(args.out).absolute() == Path(args.figure).absolute():
+        from ..errors import InputError
+
+        raise InputError("--out and --figure name the same file", value=args.out, where="--out")
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..outputs import atomic_output
 from ..problems.plan import Plan
 from ..problems.problem import Problem
 from .problem import (
@@ -99,9 +100,7 @@ def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: 
     fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))  # the legend's row at the bottom
     add_legend(fig, problem.kinematics.kind, ["collision"] if hit_any else [], loc="lower center", ncol=7,
                frameon=False)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path, dpi, tight=False)
 
 
 def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int = 4, fps: int = 10,
@@ -170,7 +169,8 @@ def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int 
     ms = int(round(1000 / fps))
     durations = [ms] * len(images)
     durations[0] = durations[-1] = max(ms, int(hold * 1000))
-    images[0].save(path, save_all=True, append_images=images[1:], duration=durations, loop=0)
+    with atomic_output(path) as tmp:
+        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=durations, loop=0)
     return Path(path)
 
 

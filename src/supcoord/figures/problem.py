@@ -39,6 +39,7 @@ from matplotlib.patches import Circle  # noqa: E402
 from ..errors import InputError  # noqa: E402
 from ..geometry.collision import placed_segments  # noqa: E402
 from ..geometry.kinematics import Kinematics  # noqa: E402
+from ..outputs import atomic_output  # noqa: E402
 from ..problems.problem import Problem  # noqa: E402
 
 __all__ = ["capsule", "capsules", "arms", "plot_configuration", "plot_target", "plot_problem", "save_problem_figure", "draw_layout", "add_legend",
@@ -209,15 +210,18 @@ def save_figure(fig: Any, path: str | Path, dpi: int = 120, tight: bool = True) 
         raise InputError(f"a figure is written as {', '.join(FIGURE_SUFFIXES)}, got {path}", value=str(path))
     if tight:
         fig.tight_layout()
-    if suffix == ".gif":
-        from PIL import Image
+    try:
+        with atomic_output(path) as tmp:
+            if suffix == ".gif":
+                from PIL import Image
 
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi)
-        Image.open(buf).convert("RGB").quantize(colors=128).save(path)
-    else:
-        fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+                buf = io.BytesIO()
+                fig.savefig(buf, format="png", dpi=dpi)
+                Image.open(buf).convert("RGB").quantize(colors=128).save(tmp, format="GIF")
+            else:
+                fig.savefig(tmp, dpi=dpi, format=suffix[1:])
+    finally:
+        plt.close(fig)
     return path
 
 

@@ -15,6 +15,8 @@ References
 
 from __future__ import annotations
 
+import contextlib
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,8 +26,10 @@ from ..bdd.context import Context
 from ..des import explicit_ops as XO
 from ..des.symbolic import to_explicit
 from ..errors import InputError
+from ..outputs import atomic_output, check_output
 from ..synthesis import ccc, reachable, supcon
 from .coupled import CoupledModel, Geometry, coupled_models, plant_explicit
+from .demo_report import report
 from .literal import CONTROLLABLE, PaperInstance, decode_label, literal_models, paper_example, spec_explicit
 
 __all__ = ["PAPER_PATH", "EXAMPLE_STEPS", "EXAMPLE_TARGET", "DemoResult", "run_demo", "replay_coupled",
@@ -174,8 +178,8 @@ def run_demo(out: str | Path | None = "supcoord-demo", *, steps: int = EXAMPLE_S
     """Build and solve the example in both readings; write files into ``out`` (None: none)."""
     t0 = time.perf_counter()
     inst = paper_example(steps, target)
-    if out is not None:  # fail before the work, not after it
-        _make_dir(Path(out))
+    if out is not None:  # fail before the work, not after it (the directory is made only to write)
+        check_demo_dir(out)
     # literal reading
     ctx = Context()
     G, E = literal_models(inst, ctx)
@@ -235,103 +239,70 @@ def run_demo(out: str | Path | None = "supcoord-demo", *, steps: int = EXAMPLE_S
     return DemoResult(payload, report(payload), files)
 
 
-def _make_dir(out: Path) -> None:
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create output directory {out}: {exc.strerror}", value=str(out), where=str(out)) from None
+#: the files the demo writes into its directory
+DEMO_FILES = ("G.gen", "S.gen", "V.gen", "demo.png")
+
+
+def check_demo_dir(out: str | Path) -> Path:
+    """Refuse, before any work, an output directory the demo could not fill: a file or a
+    link where the directory should be, an unwritable directory, or one of the demo's file
+    names taken by a directory or a non-regular file (one-line :class:`InputError`)."""
+    out = Path(out)
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise InputError("is not a directory (the demo writes G.gen, S.gen, V.gen and demo.png into one)",
+                         value=str(out), where=str(out))
+    if out.exists():
+        if not os.access(out, os.W_OK | os.X_OK):
+            raise InputError("output directory is not writable", value=str(out), where=str(out))
+        for name in DEMO_FILES:
+            check_output(out / name, what="--out")
+        return out
+    parent = out.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"cannot create the output directory: {parent} is not a writable directory",
+                         value=str(out), where=str(out))
+    return out
 
 
 def _write_files(out: Path, inst: PaperInstance, model: CoupledModel, V, witness, figure: bool) -> dict[str, str]:
+    """Write the demo's files; an error or an interrupt removes what this call created
+    (the files it wrote and the directory if it made it), so nothing half-written stays."""
     from ..des.io import write_generator
 
-    _make_dir(out)
-    G = plant_explicit(model)
-    specs = [spec_explicit(i + 1, inst.steps, inst.start[i], inst.target[i], sees_priority=True, absorbing=False)
-             for i in range(inst.size)]
-    S = XO.sync(*specs, name="S")
-    Vx = to_explicit(V, name="V")
-    files = {}
-    for name, g in (("G", G), ("S", S), ("V", Vx)):
-        path = out / f"{name}.gen"
-        write_generator(g, path)
-        files[name] = str(path)
-    if figure:
-        path = out / "demo.png"
-        draw_demo(model, witness, path)
-        files["figure"] = str(path)
-    return files
-
-
-def _supervisor_line(s: dict[str, Any]) -> str:
-    return (f"  V = supcon(G, allevents(G)||S): {s['states']} states, {s['transitions']} transitions, "
-            f"{s['marked']} marked, {s['bdd_nodes']} BDD nodes")
-
-
-def report(p: dict[str, Any]) -> str:
-    """The readable report of :func:`run_demo`'s payload."""
-    inst, lit, cou = p["instance"], p["literal"], p["coupled"]
-    L: list[str] = []
-    add = L.append
-    add("supcoord demo — the seed paper's example (Macktoobian, Gillet, Kneib, IFAC LSS 2019)")
-    add("")
-    add(f"Positioners P1, P2, P3 on the first three hex sites (mutual neighbours), n = {inst['steps']} positions "
-        f"({360 // inst['steps']}° steps), priorities 1 > 2 > 3 (P1 highest).")
-    add(f"  start  {inst['start']}    target {inst['target']}")
-    g = inst["geometry"]
-    add(f"  arms {g['arm']} mm, pitch {g['pitch']} mm, safety zone {g['zone']} mm, hard collision < {2 * g['buffer']} mm")
-    add("")
-    add("Literal reading (the paper's G^P, S^P as written; k, e free to fire):")
-    pe = lit["priority_events"]
-    add(f"  priority events: P1 {pe['P1']}, P2 {pe['P2']}, P3 {pe['P3']} (static, among both neighbours)")
-    add(f"  G = ||G^P: {lit['plant_states']} reachable states")
-    add(_supervisor_line(lit["supervisor"]))
-    v = lit["verdict"]
-    add(f"  CCC: preemptive {'forcible' if v['preemptive'] else 'NOT forcible'}, "
-        f"standard {'forcible' if v['standard'] else 'NOT forcible'} "
-        f"(forcible layers: {lit['ccc']['preemptive']['layers']})")
-    add("  Why: k and e are defined at every free state, so the environment can answer any move with")
-    add("  k, e, k, e, ... forever; no state off the target is forcible under either semantics.")
-    add("")
-    add("Coupled reading (k pending exactly when a neighbour's arm enters the zone, e when it empties):")
-    add(f"  G (coupled plant): {cou['plant_states']} reachable states")
-    add(_supervisor_line(cou["supervisor"]))
-    c = cou["ccc"]
-    add(f"  CCC (preemptive): {'forcible' if c['forcible'] else 'NOT forcible'}, rank {c['rank']}, "
-        f"layers {c['layers']}")
-    st = cou["standard"]
-    add(f"  CCC (standard):   {'forcible' if st['forcible'] else 'NOT forcible'}, rank {st['rank']}")
-    add(f"  shortest forcing path: <{', '.join(c['witness'])}>")
-    for k, r in enumerate(cou["witness_explained"], 1):
-        where = ", ".join(f"P{i + 1}@{q}" + (f"^{l}" if l else "") for i, (q, l) in enumerate(zip(r["position"], r["level"])))
-        add(f"   {k:2d}. {r['event']:>4}  {r['text']:<62} -> {where}")
-    add(f"  ends with every arm on target and every zone empty: {cou['witness_reaches_target']}; "
-        f"replayed in V, ends in V's marked state: {cou['witness_replays_in_V']}")
-    add("")
-    add("The paper's path <73, 10, 30, 15, 31, 81, 20>, replayed:")
-    add("  literal model:")
-    for r in lit["paper_path"]:
-        if r["defined"]:
-            add(f"    {r['event']:>4}  {r['text']:<62} G^P: {' '.join(r['plant'])}  S^P: {' '.join(r['spec'])}")
-        else:
-            add(f"    {r['event']:>4}  NOT DEFINED: {r['why']}")
-    last = lit["paper_path"][-1]
-    add(f"    ends marked: {last.get('marked', False)} (the last event is k = 20: P2 is left in collision mode,")
-    add("    and S^P never sees h/l, so P1 and P3 are not where their specifications think they are)")
-    add("  coupled model:")
-    for r in cou["paper_path"]:
-        if r["defined"]:
-            where = ", ".join(f"P{i + 1}@{q}" + (f"^{l}" if l else "") for i, (q, l) in enumerate(zip(r["position"], r["level"])))
-            add(f"    {r['event']:>4}  {r['text']:<62} -> {where}")
-            if r.get("preempted_by"):
-                add(f"          (under the paper's Remark this move is preempted: collision/free events of "
-                    f"{', '.join(r['preempted_by'])} are pending)")
-        else:
-            add(f"    {r['event']:>4}  NOT DEFINED: {r['why']}")
-    if p.get("files"):
-        add("")
-        add("Files: " + ", ".join(f"{k} {v}" for k, v in p["files"].items()))
-    return "\n".join(L)
+    created = [p for p in (out, *out.parents) if not p.exists()]
+    written: list[Path] = []
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        G = plant_explicit(model)
+        specs = [spec_explicit(i + 1, inst.steps, inst.start[i], inst.target[i], sees_priority=True,
+                               absorbing=False) for i in range(inst.size)]
+        S = XO.sync(*specs, name="S")
+        Vx = to_explicit(V, name="V")
+        files = {}
+        for name, g in (("G", G), ("S", S), ("V", Vx)):
+            path = out / f"{name}.gen"
+            written.append(path)
+            write_generator(g, path)
+            files[name] = str(path)
+        if figure:
+            path = out / "demo.png"
+            written.append(path)
+            draw_demo(model, witness, path)
+            files["figure"] = str(path)
+        return files
+    except BaseException as exc:
+        for path in written:
+            with contextlib.suppress(OSError):
+                path.unlink()
+        for path in created:  # innermost first
+            with contextlib.suppress(OSError):
+                path.rmdir()
+        if isinstance(exc, OSError):
+            raise InputError(f"cannot write the demo's files: {exc.strerror or exc}", value=str(out),
+                             where=str(exc.filename or out)) from None
+        raise
 
 
 def draw_demo(model: CoupledModel, witness: Sequence[str], path: str | Path) -> None:
@@ -389,5 +360,8 @@ def draw_demo(model: CoupledModel, witness: Sequence[str], path: str | Path) -> 
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+    finally:
+        plt.close(fig)

@@ -29,6 +29,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from ..errors import FormatError, InputError
+from ..outputs import atomic_write_text
 from ..geometry.collision import DEFAULT_TOL, motion_collides
 from ..geometry.kinematics import Kinematics, _is_int
 from ..geometry.layout import _short
@@ -96,7 +97,8 @@ class Plan:
         }
 
     def dump(self, path: str | Path, kin: Kinematics) -> None:
-        Path(path).write_text(json.dumps(self.to_json(kin)) + "\n")
+        """Write PLAN.json atomically (:func:`supcoord.outputs.atomic_write_text`)."""
+        atomic_write_text(path, json.dumps(self.to_json(kin)) + "\n")
 
 
 def load_plan(path: str | Path, problem: Problem) -> Plan:

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FormatError, InputError
+from ..outputs import atomic_write_text
 from ..geometry.collision import CollisionTables, colliding_pairs, neighbour_pairs
 from ..geometry.instruments import PRESETS
 from ..geometry.kinematics import Kinematics, _is_int, kinematics_from_spec
@@ -110,7 +111,8 @@ class Problem:
         return out
 
     def dump(self, path: str | Path) -> None:
-        Path(path).write_text(json.dumps(self.to_json(), indent=1) + "\n")
+        """Write PROBLEM.json atomically (:func:`supcoord.outputs.atomic_write_text`)."""
+        atomic_write_text(path, json.dumps(self.to_json(), indent=1) + "\n")
 
     @classmethod
     def from_json(cls, data: Any, where: str | None = None, check_collisions: bool = True) -> "Problem":

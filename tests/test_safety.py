@@ -1,0 +1,209 @@
+"""Nothing lost, nothing unbounded: safe outputs, budgets that are checked, clean interrupts."""
+
+import contextlib
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from supcoord.bdd.budget import MAX_TIMEOUT, Budget, current_rss
+from supcoord.cli.common import parse_size
+from supcoord.cli.main import main
+from supcoord.errors import BudgetExceeded, InputError
+from supcoord.outputs import atomic_output, atomic_write_text, check_output
+
+THREE = {
+    "layout": {"kind": "points", "xy": [[0, 0], [22.4, 0], [44.8, 0]]},
+    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    "collision": {"buffer": 2.0},
+    "start": [0, 0, 0],
+    "target": [6, 6, 6],
+}
+
+
+def run(*argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    return code, out.getvalue(), err.getvalue()
+
+
+@pytest.fixture
+def problem_file(tmp_path):
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(THREE))
+    return path
+
+
+# --- outputs ----------------------------------------------------------------------------
+
+def test_output_that_is_an_input_is_refused_before_any_work(problem_file, tmp_path):
+    before = problem_file.read_bytes()
+    os.symlink(problem_file.name, tmp_path / "link.json")
+    for out in (problem_file, tmp_path / "." / "p.json", tmp_path / "sub" / ".." / "p.json"):
+        (tmp_path / "sub").mkdir(exist_ok=True)
+        code, stdout, err = run("solve", problem_file, "--out", out)
+        assert code == 2 and stdout == "" and len(err.strip().splitlines()) == 1
+        assert "also an input" in err
+    code, _, err = run("solve", tmp_path / "link.json", "--out", problem_file)  # input through a link
+    assert code == 2 and "also an input" in err
+    code, _, err = run("check", problem_file, problem_file, "--figure", problem_file.with_suffix(".png"))
+    assert code == 2  # (the plan file is the problem: refused as a plan, one line)
+    assert problem_file.read_bytes() == before
+
+
+def test_symlink_fifo_and_directory_outputs_are_refused(problem_file, tmp_path):
+    target = tmp_path / "elsewhere.json"
+    target.write_text("keep me")
+    os.symlink(target, tmp_path / "out.json")
+    code, _, err = run("solve", problem_file, "--out", tmp_path / "out.json")
+    assert code == 2 and "symbolic link" in err and target.read_text() == "keep me"
+    os.mkfifo(tmp_path / "fifo")
+    code, _, err = run("solve", problem_file, "--out", tmp_path / "fifo")  # would block forever if opened
+    assert code == 2 and "not a regular file" in err
+    code, _, err = run("solve", problem_file, "--out", tmp_path)
+    assert code == 2 and "is a directory" in err
+    code, _, err = run("solve", problem_file, "--out", tmp_path / "plan.png", "--figure", tmp_path / "plan.png")
+    assert code == 2 and "same file" in err
+
+
+def test_read_only_directory_is_refused_before_the_work(problem_file, tmp_path, monkeypatch):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    real_access = os.access
+    # as root every directory is writable, so the permission is simulated where it is asked
+    monkeypatch.setattr("supcoord.outputs.os.access",
+                        lambda path, mode: False if Path(path) == ro else real_access(path, mode))
+    code, out, err = run("solve", problem_file, "--out", ro / "plan.json", "--json")
+    assert code == 2 and out == "" and "not writable" in err and not list(ro.iterdir())
+
+
+def test_check_output_library_errors_are_input_errors(tmp_path):
+    with pytest.raises(InputError, match="must be a file name"):
+        check_output(3)
+    with pytest.raises(InputError, match="does not exist"):
+        check_output(tmp_path / "missing" / "x.json")
+    assert check_output(tmp_path / "new.json") == tmp_path / "new.json"
+
+
+def test_atomic_write_keeps_the_old_file_when_the_writer_fails(tmp_path):
+    path = tmp_path / "plan.json"
+    path.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_output(path) as tmp:
+            tmp.write_text("half")
+            raise RuntimeError("disk full")
+    assert path.read_text() == "old"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.json"]  # no temporary left
+    atomic_write_text(path, "new")
+    assert path.read_text() == "new"
+    assert (path.stat().st_mode & 0o777) == 0o666 & ~_umask()
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full to simulate a full disk")
+def test_full_disk_names_the_file_and_leaves_no_truncated_plan(problem_file, tmp_path, monkeypatch):
+    out = tmp_path / "plan.json"
+    out.write_text('{"old": true}')
+    real_open = open
+
+    def full_disk_open(file, mode="r", *args, **kwargs):
+        if "w" in mode and Path(file).parent == tmp_path and Path(file).name.startswith(".plan.json"):
+            return real_open("/dev/full", mode, *args, **kwargs)  # writes fail with ENOSPC
+        return real_open(file, mode, *args, **kwargs)
+
+    monkeypatch.setattr("builtins.open", full_disk_open)
+    code, _, err = run("solve", problem_file, "--out", out)
+    monkeypatch.undo()
+    assert code == 2 and str(out) in err and len(err.strip().splitlines()) == 1
+    assert json.loads(out.read_text()) == {"old": True}
+
+
+def test_demo_refuses_a_file_as_its_directory_and_leaves_nothing_behind(tmp_path, monkeypatch):
+    (tmp_path / "taken").write_text("x")
+    code, _, err = run("demo", "--out", tmp_path / "taken")
+    assert code == 2 and "not a directory" in err
+    import supcoord.paper.demo as demo
+
+    def boom(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(demo, "draw_demo", boom)
+    code, _, err = run("demo", "--out", tmp_path / "new" / "demo")
+    assert code == 130 and not (tmp_path / "new").exists()  # the directories it made are gone
+
+
+# --- budgets ----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs", [{"max_nodes": -1}, {"max_nodes": 1.5}, {"timeout": "5"}, {"timeout": 0},
+                                    {"timeout": float("inf")}, {"timeout": float("nan")}, {"timeout": 1e10},
+                                    {"max_memory": True}, {"max_memory": 0}])
+def test_budget_refuses_bad_limits(kwargs):
+    with pytest.raises(InputError):
+        Budget(**kwargs)
+
+
+def test_budget_memory_limit_raises_with_the_resident_size():
+    budget = Budget(max_memory=2**20)
+    assert current_rss() > 2**20
+    with pytest.raises(BudgetExceeded, match="memory budget exceeded in tables") as exc:
+        budget.check("tables")
+    assert exc.value.stats["rss_bytes"] > 2**20 and exc.value.stats["stage"] == "tables"
+    Budget(max_memory=2**50).check("tables")  # far away: nothing
+
+
+@pytest.mark.parametrize("text, value", [("8G", 8 * 2**30), ("500M", 500 * 2**20), ("1.5GiB", int(1.5 * 2**30)),
+                                         ("2097152", 2**21)])
+def test_parse_size(text, value):
+    assert parse_size(text) == value
+
+
+@pytest.mark.parametrize("text", ["", "12X", "-5G", "nan", "inf", "1K"])
+def test_parse_size_refuses(text):
+    with pytest.raises(InputError, match="--max-memory"):
+        parse_size(text)
+
+
+@pytest.mark.parametrize("option, value", [("--timeout", "1e10"), ("--timeout", "inf"), ("--timeout", "nan"),
+                                           ("--max-memory", "lots"), ("--max-nodes", "0")])
+def test_budget_options_are_checked_before_the_work(problem_file, option, value):
+    code, out, err = run("solve", problem_file, option, value)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and option in err
+    assert str(MAX_TIMEOUT)[:4] in err or option != "--timeout" or value != "1e10"
+
+
+def test_memory_budget_stops_a_command_with_exit_3(problem_file):
+    code, out, err = run("solve", problem_file, "--max-memory", "1M", "--json")
+    assert code == 3 and "memory budget exceeded" in err
+    assert json.loads(out)["status"] == "unknown"
+
+
+# --- interrupts -------------------------------------------------------------------------
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("delay", [0.15, 0.4, 1.0])
+def test_sigint_at_any_time_is_one_line_and_exit_130(delay):
+    """From the imports to the work: one line on stderr, exit 130, no traceback; a second
+    interrupt 50 ms later changes nothing."""
+    proc = subprocess.Popen([sys.executable, "-m", "supcoord.cli", "paper", "--positioners", "12", "--steps", "12",
+                             "--model", "coupled"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    time.sleep(delay)
+    proc.send_signal(signal.SIGINT)
+    time.sleep(0.05)
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    lines = err.decode().strip().splitlines()
+    assert proc.returncode == 130, err.decode()
+    assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err.decode()
