@@ -19,16 +19,9 @@ closed form (:func:`.sweep.rotation_clearance`), so every entry ``W_m[i, j]`` is
 with no tolerance (to floating-point rounding).  The verdicts and certificates of the
 planner rest only on these tables and the static ones.
 
-Motions of several joints at once (both positioners of a pair, or two joints of one:
-the schedules and the simultaneous semantics, never a verdict) are *sampled with a
-certificate* (:func:`motion_collides`): if every point of both segments moves at most
-``L`` (mm) along the whole motion (:meth:`Kinematics.sweep_length`), then at any time the
-distance is within ``L·h/2`` of the distance at the nearest of samples spaced ``h``
-apart (distance between sets is 1-Lipschitz in the points' displacement).  So
-``min_k d(t_k) ≥ r + L·h/2`` proves the motion free and ``min_k d(t_k) < r`` proves a
-collision; undecided entries are resampled ever more finely, and whatever is still
-undecided at the tolerance ``tol`` (default 1e-6 mm) is reported as colliding: such a
-motion is only ever left out of a plan, so a plan stays valid.
+Motions of several joints at once (both positioners of a pair, or two joints of one: the
+schedules and the simultaneous semantics, never a verdict) are checked by certified
+sampling, conservative by at most ``tol`` (default 1e-6 mm): :mod:`.motion`.
 
 Distances between segments are those of :mod:`.segments` (re-exported here).
 
@@ -46,6 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from .kinematics import Kinematics
+from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, turn_collides
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
 
@@ -66,13 +60,9 @@ __all__ = [
     "DEFAULT_TOL",
 ]
 
-#: default tolerance (mm) of the sampled certificate of simultaneous motions
-DEFAULT_TOL = 1e-6
 #: largest table (position pairs of one neighbour pair) built explicitly; finer
 #: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
 MAX_TABLE_ENTRIES = 50_000_000
-#: entries handled per chunk (bounds memory: ~ CHUNK × samples × a few floats)
-CHUNK = 1 << 16
 
 
 def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
@@ -103,100 +93,10 @@ def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))].astype(int) if len(pairs) else pairs.astype(int).reshape(0, 2)
 
 
-def placed_segments(kin: Kinematics, base: Any, q: Any) -> np.ndarray:
-    """Colliding segments in the focal plane: ``kin.segments(q) + base`` (``(..., 2, 2)``)."""
-    return kin.segments(q) + np.asarray(base, float)[..., None, :]
-
-
 def static_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float,
                  kin_b: Kinematics | None = None) -> np.ndarray:
     """``T[i, j]``: positioner ``a`` at position ``i`` collides with ``b`` at ``j`` (flat indices)."""
     return distance_table(kin, base_a, base_b, kin_b) < bsum
-
-
-def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
-                    kin_b: Kinematics, base_b: Any, qb: Any, db: Any,
-                    bsum: Any, tol: float = DEFAULT_TOL, coarse: int = 1, refine: int = 4) -> np.ndarray:
-    """Does the simultaneous motion ``q_a + t·d_a``, ``q_b + t·d_b`` (``t ∈ [0,1]``) collide?
-
-    All position/delta arrays are ``(..., J)``, bases ``(..., 2)``, ``bsum`` ``(...)``; they
-    broadcast against each other (bases may differ per entry); the result is a bool
-    array over the broadcast leading shape.  Entries where one positioner moves one
-    joint and the other stands are exact (:func:`turn_collides`); the others are sampled
-    with the certificate of the module docstring, conservative by at most ``tol`` mm.
-    """
-    if not tol > 0:
-        raise InputError(f"tol must be positive, got {tol!r}", value=tol)
-    qa, da, qb, db = (np.asarray(v, float) for v in (qa, da, qb, db))
-    bsum = np.asarray(bsum, float)
-    lead = np.broadcast_shapes(qa.shape[:-1], da.shape[:-1], qb.shape[:-1], db.shape[:-1], bsum.shape,
-                               np.shape(base_a)[:-1], np.shape(base_b)[:-1])
-    bsum = np.broadcast_to(bsum, lead).reshape(-1)
-    qa = np.broadcast_to(qa, lead + qa.shape[-1:]).reshape(-1, qa.shape[-1])
-    da = np.broadcast_to(da, lead + da.shape[-1:]).reshape(-1, da.shape[-1])
-    qb = np.broadcast_to(qb, lead + qb.shape[-1:]).reshape(-1, qb.shape[-1])
-    db = np.broadcast_to(db, lead + db.shape[-1:]).reshape(-1, db.shape[-1])
-    base_a = np.broadcast_to(np.asarray(base_a, float), lead + (2,)).reshape(-1, 2)
-    base_b = np.broadcast_to(np.asarray(base_b, float), lead + (2,)).reshape(-1, 2)
-    length = kin_a.sweep_length(da) + kin_b.sweep_length(db)  # (E,)
-    result = np.zeros(len(qa), dtype=bool)
-    moving_a, moving_b = (da != 0).sum(axis=1), (db != 0).sum(axis=1)
-    exact = np.zeros(len(qa), dtype=bool)
-    for side, (kin_m, kin_s, qm, dm, qs, bm, bs, n_m, n_s) in enumerate((
-            (kin_a, kin_b, qa, da, qb, base_a, base_b, moving_a, moving_b),
-            (kin_b, kin_a, qb, db, qa, base_b, base_a, moving_b, moving_a))):
-        for joint in range(kin_m.n_joints):
-            sel = np.nonzero((n_m == 1) & (n_s == 0) & (dm[:, joint] != 0))[0]
-            if len(sel):
-                result[sel] = turn_collides(kin_m, bm[sel], qm[sel], joint, dm[sel, joint], kin_s, bs[sel], qs[sel],
-                                            bsum[sel])
-                exact[sel] = True
-    todo = np.nonzero(~exact)[0]
-    intervals = coarse
-    while len(todo):
-        eps = length[todo] / (2 * intervals)
-        dmin = np.empty(len(todo))
-        per = max(1, CHUNK // (intervals + 1))
-        t = np.linspace(0.0, 1.0, intervals + 1)[None, :, None]
-        for lo in range(0, len(todo), per):
-            idx = todo[lo:lo + per]
-            sa = placed_segments(kin_a, base_a[idx, None, :], qa[idx, None, :] + t * da[idx, None, :])
-            sb = placed_segments(kin_b, base_b[idx, None, :], qb[idx, None, :] + t * db[idx, None, :])
-            dmin[lo:lo + per] = segment_distance(sa[..., 0, :], sa[..., 1, :], sb[..., 0, :], sb[..., 1, :]).min(axis=1)
-        hit = dmin < bsum[todo]
-        result[todo[hit]] = True
-        undecided = ~hit & (dmin < bsum[todo] + eps)
-        last = eps.max(initial=0.0) <= tol
-        if last:
-            result[todo[undecided]] = True  # conservative at the tolerance
-            break
-        todo = todo[undecided]
-        intervals *= refine
-    return result.reshape(lead)
-
-
-def turn_collides(kin_m: Kinematics, base_m: Any, qm: Any, joint: int, delta: Any,
-                  kin_s: Kinematics, base_s: Any, qs: Any, bsum: Any) -> np.ndarray:
-    """Exact swept check of single-joint moves: does the mover (at ``qm``, ``(E, J)``) moving
-    ``joint`` by ``delta`` (``(E,)``) come closer than ``bsum`` to the other standing at ``qs``?
-
-    The least distance over the move is :func:`.sweep.rotation_clearance` of the mover's
-    segment turned by :meth:`Kinematics.rotation`; bases are ``(E, 2)`` or ``(2,)``.
-    """
-    qm, qs = np.asarray(qm, float), np.asarray(qs, float)
-    base_m, base_s = np.asarray(base_m, float), np.asarray(base_s, float)
-    delta, bsum = np.asarray(delta, float), np.asarray(bsum, float)
-    out = np.empty(len(qm), dtype=bool)
-    for lo in range(0, len(qm), CHUNK):
-        sl = slice(lo, lo + CHUNK)
-        bm = base_m[sl] if base_m.ndim == 2 else base_m
-        bs = base_s[sl] if base_s.ndim == 2 else base_s
-        d = np.broadcast_to(delta, (len(qm),))[sl]
-        centre, angle = kin_m.rotation(qm[sl], joint, d)
-        clearance = rotation_clearance(placed_segments(kin_m, bm, qm[sl]), centre + bm, angle,
-                                       placed_segments(kin_s, bs, qs[sl]))
-        out[sl] = clearance < np.broadcast_to(bsum, (len(qm),))[sl]
-    return out
 
 
 def distance_table(kin: Kinematics, base_a: Any, base_b: Any, kin_b: Kinematics | None = None) -> np.ndarray:
