@@ -207,3 +207,58 @@ def test_sigint_at_any_time_is_one_line_and_exit_130(delay):
     lines = err.decode().strip().splitlines()
     assert proc.returncode == 130, err.decode()
     assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err.decode()
+
+
+# --- the validator ----------------------------------------------------------------------
+
+def _swing_through():
+    """Bases (0, 0), (−20, 0), arm 15, 3 steps, buffer 1: positioner 0 turns from 1 to 2,
+    its fibre passing 5 mm from the other's arm... through it."""
+    from supcoord.problems.plan import Plan
+    from supcoord.problems.problem import parse_problem
+
+    problem = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [-20, 0]]},
+                             "kinematics": {"kind": "rotary", "arm": 15, "steps": 3},
+                             "collision": {"buffer": 1}, "start": [1, 0], "target": [2, 0]})
+    return problem, Plan("complete", [[[1], [0]], [[2], [0]]], 1, 1, [], "", {})
+
+
+@pytest.mark.parametrize("resolution", [1e-4, 0.05, 1.0, 10.0, 100.0])
+def test_validator_verdict_does_not_depend_on_the_resolution(resolution):
+    from supcoord.problems.validate import validate_plan
+
+    problem, plan = _swing_through()
+    result = validate_plan(problem, plan, resolution=resolution)
+    assert not result["valid"] and result["collisions"] == 1
+
+
+@pytest.mark.parametrize("resolution", [0, -1, 1e-9, 1e6, float("inf"), float("nan"), "5", True])
+def test_validator_refuses_a_resolution_out_of_range(resolution):
+    from supcoord.problems.validate import validate_plan
+
+    problem, plan = _swing_through()
+    with pytest.raises(InputError, match="resolution"):
+        validate_plan(problem, plan, resolution=resolution)
+
+
+def test_validator_reports_a_plan_for_another_problem():
+    from supcoord.problems.plan import Plan
+    from supcoord.problems.validate import validate_plan
+
+    problem, _ = _swing_through()
+    result = validate_plan(problem, Plan("complete", [[[1], [0], [0]], [[2], [0], [0]]], 1, 1, [], "", {}))
+    assert not result["valid"] and "another problem" in result["problems"][0]
+
+
+def test_check_cli_resolution_and_timeout(tmp_path):
+    problem, plan = _swing_through()
+    pf, lf = tmp_path / "p.json", tmp_path / "plan.json"
+    problem.dump(pf)
+    plan.dump(lf, problem.kinematics)
+    for res in ("100", "0.05"):
+        code, out, _ = run("check", pf, lf, "--resolution", res, "--json")
+        assert code == 0 and json.loads(out)["valid"] is False
+    code, _, err = run("check", pf, lf, "--resolution", "inf")
+    assert code == 2 and "--resolution" in err
+    code, _, err = run("check", pf, lf, "--timeout", "1e10")
+    assert code == 2 and "--timeout" in err

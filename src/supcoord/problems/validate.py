@@ -13,11 +13,20 @@ A plan ``c_0, …, c_T`` is *valid* for a problem when
   interpolated together, ``c_k + t·(c_{k+1} − c_k)``, ``t ∈ [0, 1]``,
   ``∀k ∀(a, b) ∀t. dist(S_a(t), S_b(t)) ≥ r_a + r_b``.
 
-The time axis of each step is sampled so that no point of a colliding segment moves
-more than ``resolution/2`` mm between samples (default ``resolution`` = 0.05 mm), so the
-sampled minimum distance is within ``resolution/2`` of the true one: a collision
-shallower than that may pass unseen (the collision tables err the other way, see
-:mod:`supcoord.geometry.collision`).  This module is deliberately *independent* of
+*Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
+the collision tables use.  Each step's time axis is first sampled so that no point of a
+colliding segment moves more than ``resolution/2`` mm between samples (default
+``resolution`` = 0.05 mm); then every interval between two samples whose distances do
+not settle it is **bisected**: with ``L`` the pair's travel bound (``d(t)`` is
+``L``-Lipschitz), the least distance over an interval ``[t0, t1]`` is at least
+``(d(t0) + d(t1) − L·(t1 − t0))/2``, so an interval is free once that bound reaches
+``r_a + r_b``, and a sample below it is a collision.  Bisection stops when an interval's
+bound is within :data:`TOLERANCE` (1e-6 mm) of deciding, or when a pair has more than
+:data:`MAX_OPEN` open intervals in one step (it touches along a stretch, at exactly
+``r_a + r_b``, which no sampling settles); such pairs are accepted and reported:
+``undecided`` counts them and ``undecided_depth`` bounds how deep a collision they could
+hide (a collision deeper than that is always found, whatever the resolution).  This
+module is deliberately *independent* of
 :mod:`supcoord.geometry` (layout, kinematics, collision tables): it rebuilds a
 hex layout from ``rings`` and ``pitch`` by another construction (axial lattice
 coordinates sorted by ring, then by polar angle) and reports a base that differs from
@@ -27,7 +36,7 @@ segments by clamped parameters, Ericson §5.1.9) and its own neighbour bound
 ``|x_a − x_b| < 2·Σ (arm lengths) + 2·max r``, so that it can catch their bugs.
 
 Result: ``{"valid", "collisions", "at_target", "problems", "steps", "min_clearance",
-"incidents"}`` where ``collisions`` counts (step, pair) incidents, ``at_target`` the
+"incidents", "undecided", "undecided_depth"}`` where ``collisions`` counts (step, pair) incidents, ``at_target`` the
 positioners whose last position is their target, ``min_clearance`` the least
 ``dist − (r_a + r_b)`` seen, and ``incidents`` lists the first :data:`MAX_PROBLEMS`
 collisions as ``{"step": k, "positioners": [a, b], "t": t, "distance": d,
@@ -47,74 +56,18 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from .plan import Plan
 from .problem import Problem
+from .validate_motion import MAX_OPEN, TOLERANCE, _arm, _close_pairs, _step_distances, segment_distance_ericson
 
-__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS"]
+__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS", "TOLERANCE",
+           "RESOLUTION_RANGE", "MAX_OPEN"]
 
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
-
-
-def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
-    """Distance between segments ``[p1, q1]`` and ``[p2, q2]`` via clamped closest parameters.
-
-    Every candidate is the distance between two actual points of the segments, so the
-    result is never below the true distance; the end-point candidates make it exact
-    also for nearly parallel segments.
-
-    >>> round(float(segment_distance_ericson([0, 0], [2, 0], [3, 1], [5, 1])) ** 2, 12)
-    2.0
-    """
-    p1, q1, p2, q2 = (np.asarray(v, float) for v in (p1, q1, p2, q2))
-    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
-    a, e, f, c, b = _dot(d1, d1), _dot(d2, d2), _dot(d2, r), _dot(d1, r), _dot(d1, d2)
-    tiny = 1e-300
-    denom = a * e - b * b
-    # s on segment 1 from the infinite lines' closest points, clamped (0 when parallel)
-    s = np.where(denom > 1e-12 * np.maximum(a * e, tiny), np.clip((b * f - c * e) / np.where(denom > 0, denom, 1), 0, 1), 0.0)
-    s = np.where(a <= tiny, 0.0, s)
-    t = np.where(e > tiny, (b * s + f) / np.where(e > tiny, e, 1), 0.0)
-    # t outside [0, 1]: clamp it and recompute s for the clamped t
-    t_lo, t_hi = (t < 0) | (e <= tiny), t > 1  # a point-like segment 2: t = 0, s from it
-    t = np.clip(t, 0, 1)
-    s_lo = np.where(a > tiny, np.clip(-c / np.where(a > tiny, a, 1), 0, 1), 0.0)
-    s_hi = np.where(a > tiny, np.clip((b - c) / np.where(a > tiny, a, 1), 0, 1), 0.0)
-    s = np.where(t_lo, s_lo, np.where(t_hi, s_hi, s))
-    c1 = p1 + s[..., None] * d1
-    c2 = p2 + t[..., None] * d2
-    d = np.sqrt(_dot(c1 - c2, c1 - c2))
-    # nearly parallel segments (the cancellation in a·e − b²) can leave s off its optimum;
-    # the distance is then attained at an end point, so the four end-point distances repair it
-    ends = [_to_segment(p1, p2, d2, e), _to_segment(q1, p2, d2, e), _to_segment(p2, p1, d1, a), _to_segment(q2, p1, d1, a)]
-    return np.minimum(d, np.minimum(np.minimum(ends[0], ends[1]), np.minimum(ends[2], ends[3])))
-
-
-def _to_segment(x: np.ndarray, start: np.ndarray, direction: np.ndarray, length2: np.ndarray) -> np.ndarray:
-    u = _dot(x - start, direction) / np.where(length2 > 0, length2, 1.0)
-    u = np.clip(u, 0.0, 1.0)
-    w = start + u[..., None] * direction - x
-    return np.sqrt(_dot(w, w))
-
-
-def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
-
-
-def _arm(kin: dict, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
-    """Colliding segment (start, end) relative to the base for float positions ``q`` (..., J),
-    the sum of the arm lengths, and per-joint angle increments (radians per step)."""
-    if kin["kind"] == "rotary":
-        theta = -2.0 * math.pi * q[..., 0] / kin["steps"]
-        end = kin["arm"] * np.stack([np.cos(theta), np.sin(theta)], -1)
-        return np.zeros_like(end), end, kin["arm"], np.array([2 * math.pi / kin["steps"]])
-    lo, hi = (math.radians(v) for v in kin["beta_range"])
-    alpha = 2.0 * math.pi * q[..., 0] / kin["alpha_steps"]
-    beta = lo + (hi - lo) * q[..., 1] / (kin["beta_steps"] - 1)
-    elbow = kin["alpha"] * np.stack([np.cos(alpha), np.sin(alpha)], -1)
-    fibre = elbow + kin["beta"] * np.stack([np.cos(alpha + beta), np.sin(alpha + beta)], -1)
-    incr = np.array([2 * math.pi / kin["alpha_steps"], (hi - lo) / (kin["beta_steps"] - 1)])
-    return elbow, fibre, kin["alpha"] + kin["beta"], incr
+#: accepted first sampling steps (mm): finer only costs memory, coarser only bisection work
+RESOLUTION_RANGE = (1e-4, 100.0)
 
 
 def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
@@ -181,12 +134,27 @@ def _check_events(kind: str, events: list[str], start: np.ndarray, last: np.ndar
 
 
 def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dict[str, Any]:
-    """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a bad plan."""
+    """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a
+    bad plan.  ``resolution`` (mm, within :data:`RESOLUTION_RANGE`) sets the first sampling;
+    the verdict does not depend on it."""
+    if not isinstance(problem, Problem) or not isinstance(plan, Plan):
+        raise InputError(f"validate_plan needs a Problem and a Plan, got {type(problem).__name__} and "
+                         f"{type(plan).__name__}", value=None)
+    lo, hi = RESOLUTION_RANGE
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
+        raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
+                         value=resolution, where="resolution")
     kin = problem.kinematics.to_json()
     steps = np.array([kin["steps"]] if kin["kind"] == "rotary" else [kin["alpha_steps"], kin["beta_steps"]])
     wraps = np.array([True] if kin["kind"] == "rotary" else [True, False])
     problems: list[str] = []
+    shape = (problem.n, len(steps))
     confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
+    wrong = [k for k, c in enumerate(confs) if c.shape != shape]
+    if wrong:
+        problems.append(f"configurations[{wrong[0]}] has shape {list(confs[wrong[0]].shape)}, not {list(shape)} "
+                        f"({problem.n} positioners, {len(steps)} joints): a plan for another problem?")
+        return _result(False, 0, 0, problems, max(0, len(confs) - 1), None)
     last = confs[-1] if confs else problem.start
     at_target = int(np.sum(np.all(last == problem.target, axis=1)))
     if plan.status != "complete":
@@ -202,16 +170,20 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     ia, ib = _close_pairs(bases, 2 * reach + 2 * buf.max(initial=0.0))
     need = buf[ia] + buf[ib]
 
-    collisions = 0
+    collisions = undecided = 0
+    depth = 0.0
     clearance = math.inf
     incidents: list[dict[str, Any]] = []
     for k in range(max(1, len(confs) - 1)):
         c0 = confs[k]
         c1 = confs[k + 1] if k + 1 < len(confs) else c0
         delta = _step_delta(c0, c1, steps, wraps, k, problems)
-        # every point of a colliding segment moves at most reach·Δα + beta·Δβ (≤ reach·Σ|Δ|·incr)
-        travel = reach * float(np.max(np.abs(delta) @ incr, initial=0.0))
-        dmin, tmin = _step_distances(kin, bases, c0, delta, ia, ib, travel, resolution)
+        # every point of a colliding segment moves at most reach·Σ|Δ_j|·incr_j (each joint turns
+        # the segment about a point within `reach` of it)
+        travel = reach * (np.abs(delta) @ incr)
+        dmin, tmin, (unsure, deep) = _step_distances(kin, bases, c0, delta, ia, ib, travel, need, resolution)
+        undecided += unsure
+        depth = max(depth, deep)
         if len(dmin):
             clearance = min(clearance, float(np.min(dmin - need)))
         hits = np.nonzero(dmin < need)[0]
@@ -224,7 +196,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
                 incidents.append({"step": k, "positioners": [int(ia[h]), int(ib[h])], "t": float(tmin[h]),
                                   "distance": float(dmin[h]), "required": float(need[h])})
     valid = not problems
-    return _result(valid, collisions, at_target, problems, len(confs) - 1, clearance, incidents)
+    return _result(valid, collisions, at_target, problems, len(confs) - 1, clearance, incidents, (undecided, depth))
 
 
 def _check_sequence(problem: Problem, plan: Plan, kind: str, confs: list[np.ndarray], steps: np.ndarray,
@@ -260,59 +232,6 @@ def _step_delta(c0: np.ndarray, c1: np.ndarray, steps: np.ndarray, wraps: np.nda
     return delta
 
 
-def _step_distances(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndarray, ia: np.ndarray,
-                    ib: np.ndarray, travel: float, resolution: float) -> tuple[np.ndarray, np.ndarray]:
-    """Least distance of each pair ``(ia, ib)`` over the step ``c0 + t·delta`` and the ``t`` where
-    it occurs (0 when the start is closest), sampled so that no point moves more than
-    ``resolution/2`` between samples."""
-    moving = np.any(delta != 0, axis=1)
-    sel = moving[ia] | moving[ib]
-    samples = max(1, math.ceil(2 * travel / resolution)) if sel.any() else 0
-    d_static = _pair_distances(kin, bases, c0.astype(float), ia, ib)
-    dmin = d_static
-    tmin = np.zeros(len(ia))
-    if not samples:
-        return dmin, tmin
-    t = np.linspace(0.0, 1.0, samples + 1)
-    pa, pb = ia[sel], ib[sel]
-    dm = np.full(len(pa), np.inf)
-    tm = np.zeros(len(pa))
-    per = max(1, 200_000 // len(t))
-    for lo in range(0, len(pa), per):
-        a, b = pa[lo:lo + per], pb[lo:lo + per]
-        qa = c0[a][:, None, :] + t[None, :, None] * delta[a][:, None, :]
-        qb = c0[b][:, None, :] + t[None, :, None] * delta[b][:, None, :]
-        a0, a1, _, _ = _arm(kin, qa)
-        b0, b1, _, _ = _arm(kin, qb)
-        ba, bb = bases[a][:, None, :], bases[b][:, None, :]
-        dist = segment_distance_ericson(a0 + ba, a1 + ba, b0 + bb, b1 + bb)
-        dm[lo:lo + per] = dist.min(axis=1)
-        tm[lo:lo + per] = t[dist.argmin(axis=1)]
-    dmin = d_static.copy()
-    dmin[sel] = np.minimum(d_static[sel], dm)
-    tmin[sel] = np.where(dm < d_static[sel], tm, 0.0)
-    return dmin, tmin
-
-
-def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarray]:
-    """All ``(a, b)``, ``a < b``, with bases closer than ``limit`` (row blocks, no N² memory)."""
-    out_a, out_b = [], []
-    rows = max(1, 4_000_000 // max(len(bases), 1))
-    for lo in range(0, len(bases), rows):
-        d = np.hypot(*(bases[lo:lo + rows, None, :] - bases[None, :, :]).transpose(2, 0, 1))
-        a, b = np.nonzero(d < limit)
-        a = a + lo
-        out_a.append(a[a < b])
-        out_b.append(b[a < b])
-    return np.concatenate(out_a), np.concatenate(out_b)
-
-
-def _pair_distances(kin: dict, bases: np.ndarray, c: np.ndarray, ia: np.ndarray, ib: np.ndarray) -> np.ndarray:
-    s0, s1, _, _ = _arm(kin, c)
-    s0, s1 = s0 + bases, s1 + bases
-    return segment_distance_ericson(s0[ia], s1[ia], s0[ib], s1[ib])
-
-
 def _ids(idx: Any, limit: int = 10) -> str:
     idx = [int(i) for i in idx]
     text = ", ".join(map(str, idx[:limit]))
@@ -320,10 +239,12 @@ def _ids(idx: Any, limit: int = 10) -> str:
 
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,
-            clearance: float | None, incidents: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+            clearance: float | None, incidents: list[dict[str, Any]] | None = None,
+            undecided: tuple[int, float] = (0, 0.0)) -> dict[str, Any]:
     if len(problems) > MAX_PROBLEMS:
         problems = problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more"]
     if clearance is not None and not math.isfinite(clearance):
         clearance = None
     return {"valid": bool(valid), "collisions": int(collisions), "at_target": int(at_target), "problems": problems,
-            "steps": int(steps), "min_clearance": clearance, "incidents": list(incidents or [])}
+            "steps": int(steps), "min_clearance": clearance, "incidents": list(incidents or []),
+            "undecided": int(undecided[0]), "undecided_depth": float(undecided[1])}
