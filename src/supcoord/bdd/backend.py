@@ -14,19 +14,47 @@ from typing import Any, Iterable
 
 from ..errors import InputError
 
-__all__ = ["BDD", "load_backend", "dag_size"]
+__all__ = ["BDD", "load_backend", "dag_size", "raise_stack_limit", "STACK_BYTES"]
 
 BDD = Any  # a ``dd`` Function; the backends share its interface
 
 
+#: C stack the BDD operations may use (bytes): CUDD's apply recurses once per variable
+#: level, so BDDs over ~10^5 variables (the paper's model at 6,000 positioners) overflow
+#: the usual 8 MiB and crash the process with a segmentation fault
+STACK_BYTES = 2**30
+
+
+def raise_stack_limit(wanted: int = STACK_BYTES) -> int:
+    """Raise this process's soft ``RLIMIT_STACK`` to ``wanted`` bytes (within the hard limit)
+    and return the limit now in force.  On Linux the main thread's stack grows on demand up
+    to the soft limit checked at the time of growth, so raising it before the deep
+    recursion is enough; threads keep the stack they were created with."""
+    try:
+        import resource
+    except ImportError:  # not POSIX: nothing to do
+        return 0
+    soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
+    if soft == resource.RLIM_INFINITY or soft >= wanted:
+        return soft
+    target = wanted if hard == resource.RLIM_INFINITY else min(hard, wanted)
+    try:
+        resource.setrlimit(resource.RLIMIT_STACK, (target, hard))
+    except (ValueError, OSError):
+        return soft
+    return target
+
+
 def load_backend(name: str = "auto"):
-    """Return the ``dd`` module for ``name`` in {"auto", "cudd", "autoref"}."""
+    """Return the ``dd`` module for ``name`` in {"auto", "cudd", "autoref"} (for CUDD, after
+    :func:`raise_stack_limit`)."""
     if name not in ("auto", "cudd", "autoref"):
         raise InputError(f"unknown BDD backend {name!r} (use auto, cudd or autoref)", value=name)
     if name in ("auto", "cudd"):
         try:
             from dd import cudd as _bdd
 
+            raise_stack_limit()
             return _bdd
         except ImportError:
             if name == "cudd":
