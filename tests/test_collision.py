@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from supcoord.geometry import AlphaBeta, Rotary, hex_grid
 from supcoord.geometry.collision import (
+    MAX_TABLE_ENTRIES,
     CollisionTables,
     distance_table,
     motion_collides,
@@ -177,9 +178,12 @@ def test_distance_table_matches_segments():
 def test_too_fine_discretisation_is_a_user_error():
     from supcoord.errors import InputError
 
-    kin = AlphaBeta(7.4, 15.0, 360, 181, (0.0, 180.0))
-    with pytest.raises(InputError, match="fewer steps per joint"):
-        static_table(kin, (0, 0), (22.4, 0), 4.0)
+    with pytest.raises(InputError, match="at most 7071 positions"):  # 1° steps: 65,160 positions
+        AlphaBeta(7.4, 15.0, 360, 181, (0.0, 180.0))
+    with pytest.raises(InputError, match="at most 7071"):
+        Rotary(15.0, 7072)
+    kin = AlphaBeta(7.4, 15.0, 84, 84, (0.0, 180.0))  # 7,056 positions: the tables' bound is the same
+    assert kin.n_positions**2 <= MAX_TABLE_ENTRIES
 
 
 @pytest.mark.parametrize("kin", KINEMATICS[:2], ids=["rotary", "alpha-beta"])

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .kinematics import Kinematics
+from .kinematics import MAX_POSITIONS, Kinematics
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, turn_collides
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
@@ -62,7 +62,7 @@ __all__ = [
 
 #: largest table (position pairs of one neighbour pair) built explicitly; finer
 #: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
-MAX_TABLE_ENTRIES = 50_000_000
+MAX_TABLE_ENTRIES = MAX_POSITIONS**2
 
 
 def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:

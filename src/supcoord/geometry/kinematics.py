@@ -38,10 +38,13 @@ from ..errors import FormatError, InputError
 from .joint_space import Joint, Kinematics, _is_int
 from .layout import _finite_number, _positive_number, _short
 
-__all__ = ["Joint", "Kinematics", "Rotary", "AlphaBeta", "kinematics_from_spec", "MAX_LENGTH"]
+__all__ = ["Joint", "Kinematics", "Rotary", "AlphaBeta", "kinematics_from_spec", "MAX_LENGTH", "MAX_POSITIONS"]
 
 #: longest arm accepted (mm); anything longer is a unit mistake
 MAX_LENGTH = 1e6
+#: most positions of one positioner: a pair's collision tables hold positions² entries, and
+#: :data:`supcoord.geometry.collision.MAX_TABLE_ENTRIES` is ``MAX_POSITIONS²`` (5·10⁷)
+MAX_POSITIONS = 7071
 
 
 class Rotary(Kinematics):
@@ -59,6 +62,9 @@ class Rotary(Kinematics):
             raise InputError(f"kinematics.arm must be a positive number (mm) <= {MAX_LENGTH:g}, got {arm!r}", value=arm)
         if not _is_int(steps) or steps < 2:
             raise InputError(f"kinematics.steps must be an integer >= 2, got {steps!r}", value=steps)
+        if steps > MAX_POSITIONS:
+            raise InputError(f"kinematics.steps must be at most {MAX_POSITIONS} (a pair's collision tables hold "
+                             f"steps² entries), got {steps}", value=steps)
         self.arm = float(arm)
         self.steps = int(steps)
         self.joints = (Joint("theta", self.steps, True),)
@@ -117,6 +123,10 @@ class AlphaBeta(Kinematics):
             raise InputError(f"kinematics.alpha_steps must be an integer >= 2, got {alpha_steps!r}", value=alpha_steps)
         if not _is_int(beta_steps) or beta_steps < 2:
             raise InputError(f"kinematics.beta_steps must be an integer >= 2, got {beta_steps!r}", value=beta_steps)
+        if alpha_steps * beta_steps > MAX_POSITIONS:
+            raise InputError(f"kinematics.alpha_steps × beta_steps must be at most {MAX_POSITIONS} positions (a "
+                             f"pair's collision tables hold positions² entries), got {alpha_steps} × {beta_steps}",
+                             value=[alpha_steps, beta_steps])
         if (not isinstance(beta_range, (list, tuple)) or len(beta_range) != 2
                 or not all(_finite_number(v) for v in beta_range)):
             raise InputError(f"kinematics.beta_range must be [lo, hi] in degrees, got {_short(beta_range)}", value=beta_range)
@@ -198,14 +208,9 @@ def kinematics_from_spec(spec: Any, where: str | None = None) -> Kinematics:
     try:
         if kind == "rotary":
             _require(spec, ("arm", "steps"), where)
-            if spec["steps"] > 100_000 if _is_int(spec["steps"]) else False:
-                raise InputError(f"kinematics.steps is unreasonably large: {spec['steps']}", value=spec["steps"])
             return Rotary(spec["arm"], spec["steps"])
         if kind == "alpha-beta":
             _require(spec, ("alpha", "beta", "alpha_steps", "beta_steps"), where)
-            for f in ("alpha_steps", "beta_steps"):
-                if _is_int(spec[f]) and spec[f] > 10_000:
-                    raise InputError(f"kinematics.{f} is unreasonably large: {spec[f]}", value=spec[f])
             return AlphaBeta(spec["alpha"], spec["beta"], spec["alpha_steps"], spec["beta_steps"],
                              spec.get("beta_range", [0.0, 180.0]))
     except InputError as exc:

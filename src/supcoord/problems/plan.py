@@ -33,12 +33,15 @@ from ..outputs import atomic_write_text
 from ..geometry.collision import DEFAULT_TOL, motion_collides
 from ..geometry.kinematics import Kinematics, _is_int
 from ..geometry.layout import _short
-from .problem import Problem
+from .problem import Problem, read_json
 
-__all__ = ["Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves",
+__all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves",
            "compact_moves", "plan_from_moves", "load_plan", "parse_plan", "STATUSES"]
 
 STATUSES = ("complete", "infeasible", "unknown")
+#: largest PLAN.json read (bytes) and most positions in it (configurations × positioners)
+MAX_PLAN_BYTES = 256 * 2**20
+MAX_PLAN_POSITIONS = 20_000_000
 #: ``(positioner, joint, delta)``: one joint of one positioner moves one step
 Move = tuple[int, int, int]
 _PREFIX = {"rotary": [("v", "w")], "alpha-beta": [("va", "wa"), ("vb", "wb")]}
@@ -102,21 +105,9 @@ class Plan:
 
 
 def load_plan(path: str | Path, problem: Problem) -> Plan:
-    """Read a PLAN.json file for ``problem`` (structure checked; geometry left to the validator)."""
-    where = str(path)
-    p = Path(path)
-    if not p.is_file():
-        raise InputError("plan file not found", value=where, where=where)
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as exc:
-        raise FormatError(f"not a UTF-8 text file ({exc.reason})", value=where, where=where) from None
-    except json.JSONDecodeError as exc:
-        raise FormatError(f"not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}",
-                          value=where, where=where) from None
-    except RecursionError:
-        raise FormatError("JSON nested too deeply", value=where, where=where) from None
-    return parse_plan(data, problem, where)
+    """Read a PLAN.json file for ``problem`` (structure checked; geometry left to the
+    validator); at most :data:`MAX_PLAN_BYTES` and :data:`MAX_PLAN_POSITIONS` positions."""
+    return parse_plan(read_json(path, "plan", MAX_PLAN_BYTES), problem, str(path))
 
 
 def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
@@ -135,6 +126,9 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
     if not isinstance(confs, list):
         raise FormatError(f"configurations must be a list, got {_short(confs)}", value=confs, where=where)
     kin, n = problem.kinematics, problem.n
+    if len(confs) * n > MAX_PLAN_POSITIONS:
+        raise InputError(f"configurations: {len(confs)} configurations of {n} positioners are more than the "
+                         f"{MAX_PLAN_POSITIONS} positions a plan may have", value=len(confs), where=where)
     out = []
     for t, c in enumerate(confs):
         if not isinstance(c, list) or len(c) != n:

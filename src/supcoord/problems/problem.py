@@ -37,10 +37,13 @@ from ..geometry.instruments import PRESETS
 from ..geometry.kinematics import Kinematics, _is_int, kinematics_from_spec
 from ..geometry.layout import _finite_number, _short, layout_from_spec
 
-__all__ = ["Problem", "load_problem", "parse_problem", "MAX_POSITIONERS", "KNOWN_FIELDS"]
+__all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
+           "KNOWN_FIELDS"]
 
 #: refuse problems bigger than this (a typo such as rings = 600 should not eat the memory)
 MAX_POSITIONERS = 20_000
+#: largest PROBLEM.json read (bytes): 20,000 positioners with every field take about 2 MB
+MAX_PROBLEM_BYTES = 64 * 2**20
 #: top-level fields kept as they are (descriptive, or the preset that filled the file in)
 EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
 #: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
@@ -123,22 +126,45 @@ class Problem:
         return load_problem(path)
 
 
-def load_problem(path: str | Path, check_collisions: bool = True) -> Problem:
-    """Read and validate a PROBLEM.json file (errors carry ``where = path``)."""
+def read_json(path: str | Path, what: str, max_bytes: int) -> Any:
+    """Decode a JSON file, bounded: refused (one-line :class:`InputError`/:class:`FormatError`
+    with ``where = path``) when missing, not a regular file, over ``max_bytes``, not UTF-8,
+    not JSON, nested too deeply, or holding an integer too long to convert (Python's limit of
+    4,300 digits)."""
     where = str(path)
     p = Path(path)
+    if not p.exists():
+        raise InputError(f"{what} file not found", value=where, where=where)
     if not p.is_file():
-        raise InputError("problem file not found", value=str(path), where=where)
+        raise InputError(f"is not a regular file (a directory, FIFO or device), not a {what} file", value=where,
+                         where=where)
+    size = p.stat().st_size
+    if size > max_bytes:
+        raise InputError(f"{what} file is {size} bytes, more than the {max_bytes} a {what} may have", value=size,
+                         where=where)
     try:
-        data = json.loads(p.read_text(encoding="utf-8"))
+        with open(p, "rb") as f:
+            raw = f.read(max_bytes + 1)
+        if len(raw) > max_bytes:
+            raise InputError(f"{what} file is more than {max_bytes} bytes", value=len(raw), where=where)
+        return json.loads(raw.decode("utf-8"))
     except UnicodeDecodeError as exc:
-        raise FormatError(f"not a UTF-8 text file ({exc.reason})", value=str(path), where=where) from None
+        raise FormatError(f"not a UTF-8 text file ({exc.reason})", value=where, where=where) from None
     except json.JSONDecodeError as exc:
         raise FormatError(f"not valid JSON: {exc.msg} at line {exc.lineno} column {exc.colno}",
-                          value=str(path), where=where) from None
+                          value=where, where=where) from None
     except RecursionError:
-        raise FormatError("JSON nested too deeply", value=str(path), where=where) from None
-    return parse_problem(data, where, check_collisions)
+        raise FormatError("JSON nested too deeply", value=where, where=where) from None
+    except ValueError as exc:  # e.g. "Exceeds the limit (4300 digits) for integer string conversion"
+        raise FormatError(f"a number is out of range: {str(exc).splitlines()[0]}", value=where, where=where) from None
+    except OSError as exc:
+        raise InputError(f"cannot be read: {exc.strerror or exc}", value=where, where=where) from None
+
+
+def load_problem(path: str | Path, check_collisions: bool = True) -> Problem:
+    """Read and validate a PROBLEM.json file (errors carry ``where = path``); at most
+    :data:`MAX_PROBLEM_BYTES`."""
+    return parse_problem(read_json(path, "problem", MAX_PROBLEM_BYTES), str(path), check_collisions)
 
 
 def parse_problem(data: Any, where: str | None = None, check_collisions: bool = True) -> Problem:
