@@ -418,7 +418,7 @@ def test_improvement_keeps_plans_valid_and_never_longer(seed, kind):
     plan = solve(p, improve=0)
     if plan.status != "complete":
         return
-    confs, stats = improve_plan(p, plan.configurations, time_cap=1.0)
+    confs, stats = improve_plan(p, plan.configurations)
     assert len(confs) - 1 <= plan.makespan == stats["makespan_before"]
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]

@@ -262,3 +262,99 @@ def test_check_cli_resolution_and_timeout(tmp_path):
     assert code == 2 and "--resolution" in err
     code, _, err = run("check", pf, lf, "--timeout", "1e10")
     assert code == 2 and "--timeout" in err
+
+
+# --- determinism ------------------------------------------------------------------------
+
+@pytest.mark.timeout(120)
+def test_the_same_problem_gives_the_same_plan_on_a_slow_machine(monkeypatch):
+    """Plan improvement is budgeted in re-plannings, not seconds: a clock that runs 1000x
+    faster (a loaded machine) changes nothing."""
+    import itertools
+
+    import numpy as np
+
+    import supcoord.planning.improve as improve
+    from supcoord.planning.planner import solve
+    from supcoord.problems.random import random_problem
+
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, {"kind": "rotary", "arm": 15, "steps": 12}, 2.0,
+                       seed=0)
+    normal = solve(p)
+    ticks = itertools.count()
+    monkeypatch.setattr(improve.time, "perf_counter", lambda: 1000.0 * next(ticks))
+    slow = solve(p)
+    assert normal.stats["improve_replans"] > 0 and normal.makespan < normal.stats["makespan_scheduled"]
+    assert slow.makespan == normal.makespan and slow.events == normal.events
+    assert all(np.array_equal(a, b) for a, b in zip(slow.configurations, normal.configurations))
+
+
+@pytest.mark.parametrize("improve", [-1, 0.5, float("nan"), "5", True])
+def test_solve_refuses_a_bad_improve_budget(improve):
+    from supcoord.planning.planner import solve
+    from supcoord.problems.problem import parse_problem
+
+    with pytest.raises(InputError, match="improve"):
+        solve(parse_problem(THREE), improve=improve)
+
+
+def test_solve_refuses_what_is_not_a_problem():
+    from supcoord.planning.planner import solve
+
+    with pytest.raises(InputError, match="needs a Problem"):
+        solve("problem.json")
+
+
+# --- bounded inputs -----------------------------------------------------------------------
+
+def test_problem_and_plan_readers_bound_what_a_file_may_ask(tmp_path):
+    import sys as _sys
+
+    limit = _sys.get_int_max_str_digits()
+    _sys.set_int_max_str_digits(0)
+    try:
+        huge = dict(THREE, start=[int("9" * 5000), 0, 0])
+        (tmp_path / "bigint.json").write_text(json.dumps(huge))
+        plan = {"status": "complete", "configurations": [[int("9" * 5000), 0, 0]]}
+        (tmp_path / "bigplan.json").write_text(json.dumps(plan))
+    finally:
+        _sys.set_int_max_str_digits(limit)
+    (tmp_path / "p.json").write_text(json.dumps(THREE))
+    code, _, err = run("solve", tmp_path / "bigint.json")
+    assert code == 2 and "bigint.json" in err and "out of range" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run("check", tmp_path / "p.json", tmp_path / "bigplan.json")
+    assert code == 2 and "bigplan.json" in err and len(err.strip().splitlines()) == 1
+    for kin, field in (({"kind": "rotary", "arm": 15, "steps": 8000}, "kinematics.steps"),
+                       ({"kind": "alpha-beta", "alpha": 7.4, "beta": 15, "alpha_steps": 10**4, "beta_steps": 10**4},
+                        "alpha_steps")):
+        (tmp_path / "k.json").write_text(json.dumps(dict(THREE, kinematics=kin)))
+        started = time.perf_counter()
+        code, _, err = run("solve", tmp_path / "k.json")
+        assert code == 2 and "k.json" in err and field in err and time.perf_counter() - started < 5
+
+
+def test_plan_reader_refuses_too_many_positions(tmp_path, monkeypatch):
+    import supcoord.problems.plan as plan_module
+
+    monkeypatch.setattr(plan_module, "MAX_PLAN_POSITIONS", 30)
+    (tmp_path / "p.json").write_text(json.dumps(THREE))
+    (tmp_path / "plan.json").write_text(json.dumps({"status": "complete", "configurations": [[0, 0, 0]] * 11}))
+    code, _, err = run("check", tmp_path / "p.json", tmp_path / "plan.json")
+    assert code == 2 and "30 positions" in err
+
+
+def test_paper_refuses_runaway_sizes():
+    for flag, value in (("--positioners", "10000000"), ("--steps", "100000")):
+        argv = ["paper", "--positioners", "3", "--steps", "4", flag, value]
+        code, _, err = run(*argv)
+        assert code == 2 and flag in err and "at most" in err
+
+
+def test_stack_limit_is_raised_for_deep_bdds():
+    import resource
+
+    from supcoord.bdd.backend import STACK_BYTES, load_backend
+
+    load_backend("cudd")
+    soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
+    assert soft == resource.RLIM_INFINITY or soft >= min(STACK_BYTES, hard)

@@ -17,8 +17,9 @@ The new trajectory replaces the old when it arrives earlier; since every other
 trajectory is unchanged and each of ``r``'s steps was checked against the others'
 motion in that very step, the plan stays valid — and it still starts at the start and
 ends at the target.  Rounds go over the positioners in order of decreasing ``f_r``
-(the ones that set the makespan first) until a round improves nothing or the time
-cap runs out; trailing steps in which nothing moves are dropped.
+(the ones that set the makespan first) until a round improves nothing or the work
+budget (a number of re-plannings, never seconds: the same input gives the same plan on
+any machine) runs out; trailing steps in which nothing moves are dropped.
 
 A *group* re-plan takes the positioner ``r`` and its latest neighbours out, re-plans
 them one after another (prioritised: each sees those already re-planned, not the
@@ -42,7 +43,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -50,7 +51,11 @@ from ..geometry.collision import motion_collides
 from ..problems.problem import Problem
 from .guards import conflict_graph, pair_graph, successor_table
 
-__all__ = ["improve_plan"]
+__all__ = ["improve_plan", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
+
+#: the default work budget of :func:`improve_plan` (space-time re-plannings tried)
+REPLANS_PER_POSITIONER = 4
+MIN_REPLANS = 200
 
 
 def _trajectories(problem: Problem, confs: list[np.ndarray]) -> np.ndarray:
@@ -204,7 +209,7 @@ class _Replanner:
             self.traj[:, group] = old
         return ok
 
-    def round(self, t0: float, time_cap: float) -> bool:
+    def round(self, max_replans: int, check: Callable[[], None] | None = None) -> bool:
         """One round over the positioners that set the makespan, latest first (groups of
         one to three with their latest neighbours); trailing idle steps dropped.  Did it
         improve anything?"""
@@ -212,8 +217,10 @@ class _Replanner:
         horizon = len(self.traj) - 1
         finish = self.finish
         for r in sorted(range(self.problem.n), key=lambda r: (-finish(r), r)):
-            if time.perf_counter() - t0 >= time_cap or finish(r) == 0:
+            if self.stats["replans"] >= max_replans or finish(r) == 0:
                 break
+            if check is not None:
+                check()
             if finish(r) < horizon - 1:
                 break  # only the positioners that set the makespan
             late = sorted((q for _, q, _ in self.nbrs[r] if finish(q) > 0), key=lambda q: (-finish(q), q))
@@ -227,16 +234,31 @@ class _Replanner:
         return improved
 
 
-def improve_plan(problem: Problem, confs: list[np.ndarray], time_cap: float = 5.0) -> tuple[list[np.ndarray], dict]:
-    """A plan no longer than ``confs`` (module docstring) and statistics."""
+def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | None = None,
+                 check: Callable[[], None] | None = None) -> tuple[list[np.ndarray], dict]:
+    """A plan no longer than ``confs`` (module docstring) and statistics.
+
+    Rounds go on until one improves nothing or ``max_replans`` space-time re-plannings have
+    been tried (default :func:`default_replans`): a budget in units of work, not seconds,
+    so the same problem gives the same plan on any machine and any load.  ``check`` (the
+    caller's budget check) is called before each group and may raise."""
     t0 = time.perf_counter()
+    if max_replans is None:
+        max_replans = default_replans(problem.n)
     kin = problem.kinematics
-    stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0}
+    stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0,
+                             "max_replans": int(max_replans)}
     rp = _Replanner(problem, confs, stats)
     improved = True
-    while improved and time.perf_counter() - t0 < time_cap:
-        improved = rp.round(t0, time_cap)
+    while improved and stats["replans"] < max_replans:
+        improved = rp.round(max_replans, check)
     stats["makespan_after"] = len(rp.traj) - 1
     stats["seconds"] = time.perf_counter() - t0
     out = [rp.pos[row] for row in rp.traj]
     return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], stats
+
+
+def default_replans(positioners: int) -> int:
+    """The default work budget of :func:`improve_plan`: :data:`REPLANS_PER_POSITIONER` re-plannings
+    per positioner, at least :data:`MIN_REPLANS`."""
+    return max(MIN_REPLANS, REPLANS_PER_POSITIONER * int(positioners))

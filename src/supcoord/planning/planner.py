@@ -118,7 +118,7 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
           validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
-          improve: float | None = None) -> Plan:
+          improve: int | None = None) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
@@ -126,14 +126,20 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     monolithic route, compute ``supcon`` before forcibility (default: on); the local
     route ignores it (its windows never need ``supcon``); ``greedy``/``levels``:
     the local route's descent and window node caps (:func:`.windows.solve_local`;
-    neither changes a verdict); ``improve``: seconds for shortening the scheduled plan by
-    space-time re-planning (:mod:`.improve`; None: 30 % of the time spent so far,
-    0.5 to 30 s; 0: off).  ``events`` is the exact single-move witness, the
+    neither changes a verdict); ``improve``: how many space-time re-plannings may shorten the
+    scheduled plan (:mod:`.improve`; None: :func:`.improve.default_replans`, 0: off) — work,
+    not seconds, so the same input gives the same plan on any machine and load.  ``events`` is the exact single-move witness, the
     configurations its (improved) simultaneous schedule.  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
+    if not isinstance(problem, Problem):
+        raise InputError(f"solve needs a Problem (supcoord.load_problem, random_problem, preset_problem), got "
+                         f"{type(problem).__name__}", value=type(problem).__name__)
     if route not in ROUTES:
         raise InputError(f"unknown route {route!r} (use {' or '.join(ROUTES)})", value=route)
+    if improve is not None and (isinstance(improve, bool) or not isinstance(improve, (int, np.integer)) or improve < 0):
+        raise InputError(f"improve must be a number of re-plannings >= 0 (0: off) or None, got {improve!r}",
+                         value=improve, where="improve")
     t0 = time.perf_counter()
     budget = budget or Budget()
     order = order or ("rcm" if route == "local" else "hex")
@@ -165,10 +171,11 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     plan = plan_from_schedule(problem, moves)
     stats["schedule"] = plan.stats["schedule"]
     stats["single_moves"] = len(moves)
-    cap = min(30.0, max(0.5, 0.3 * (time.perf_counter() - t0))) if improve is None else float(improve)
-    if cap > 0 and plan.makespan > plan.lower_bound:
-        confs, st = improve_plan(problem, plan.configurations, time_cap=cap)
-        stats.update(makespan_scheduled=plan.makespan, improve_seconds=st["seconds"], improved_groups=st["improved"])
+    if (improve is None or improve > 0) and plan.makespan > plan.lower_bound:
+        confs, st = improve_plan(problem, plan.configurations, improve,
+                                 check=lambda: model.ctx.check_budget("improve"))
+        stats.update(makespan_scheduled=plan.makespan, improve_seconds=st["seconds"], improved_groups=st["improved"],
+                     improve_replans=st["replans"])
         plan = Plan("complete", confs, len(confs) - 1, plan.lower_bound, plan.events, "", {})
     stats["seconds"] = time.perf_counter() - t0
     if validate:
