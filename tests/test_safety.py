@@ -358,3 +358,13 @@ def test_stack_limit_is_raised_for_deep_bdds():
     load_backend("cudd")
     soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
     assert soft == resource.RLIM_INFINITY or soft >= min(STACK_BYTES, hard)
+
+
+def test_node_budget_is_checked_inside_images():
+    """--max-nodes 1000 stopped a monolithic paper run at 24,057 live nodes (one check per
+    iteration); now every image checks it, so the overrun is one image."""
+    code, out, err = run("paper", "--positioners", "8", "--steps", "12", "--route", "monolithic",
+                         "--max-nodes", "1000", "--json")
+    assert code == 3
+    stats = json.loads(out)["stats"]
+    assert 1000 < stats["bdd_nodes"] < 5000 and stats["inside"] == "image"

@@ -339,6 +339,14 @@ class Context:
         stats = self.statistics()
         return max(self._peak_nodes, int(stats.get("peak_live_nodes", stats.get("peak_nodes", 0))))
 
+    def check_nodes(self, stage: str, **info: Any) -> None:
+        """The node budget alone, cheap enough to follow every BDD operation of an image
+        (CUDD's own counters, microseconds): a fixpoint iteration made of many images can
+        then overrun ``max_nodes`` by one operation, not by a whole iteration."""
+        limit = self.budget.max_nodes
+        if limit is not None and (self._live is not None or self.fast_count) and self._live() > limit:
+            self.check_budget(stage, inside="image", **info)
+
     def check_budget(self, stage: str, **info: Any) -> None:
         """Report progress and raise :class:`BudgetExceeded` if a budget ran out."""
         nodes = self.live_nodes()
