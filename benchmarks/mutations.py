@@ -1,0 +1,184 @@
+"""Mutation testing of the exact core: does the test suite catch each deliberate bug?
+
+Each mutation replaces one exact piece of source text (it must occur exactly once) in a
+copy of ``src/``, then runs the test files that guard that code against the copy
+(``PYTHONPATH`` first, so the copy is what the tests import). A mutation is *caught*
+when some test fails; the table records which one and how long it took.
+
+    python benchmarks/mutations.py                  # every mutation, writes results/mutations.md
+    python benchmarks/mutations.py --only sweep     # the mutations whose id contains 'sweep'
+    python benchmarks/mutations.py --list           # what would run
+
+Results: ``benchmarks/results/mutations.md`` (command, date, machine, load, code version);
+docs/testing.md quotes the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "benchmarks" / "results" / "mutations.md"
+
+
+@dataclass(frozen=True)
+class Mutation:
+    id: str
+    area: str
+    path: str  # relative to src/supcoord
+    old: str
+    new: str
+    tests: tuple[str, ...]
+    what: str
+
+
+MUTATIONS = [
+    Mutation("supcon-no-controllability", "supcon", "synthesis/supcon.py",
+             "z = zold & ~coreachable(P, r0 & ~zold, within=r0, method=method, events=unc)", "z = zold",
+             ("tests/test_supcon.py",), "the controllability step (remove UPre*(¬Z)) is skipped"),
+    Mutation("supcon-no-nonblocking", "supcon", "synthesis/supcon.py",
+             "zold = coreachable(P, P.marked & z, within=z, method=method)", "zold = z",
+             ("tests/test_supcon.py",), "the nonblocking step (Z ∩ CoReach_Z(Qm)) is skipped"),
+    Mutation("supcon-no-b0", "supcon", "synthesis/supcon.py",
+             "z = r0 & ~uncontrollable_blocked(G, P)", "z = r0",
+             ("tests/test_supcon.py",), "states where the spec blocks an uncontrollable event are kept"),
+    Mutation("force-or", "forcibility", "synthesis/forcibility.py",
+             "return Q & some_c & all_u_ok", "return Q & (some_c | all_u_ok)",
+             ("tests/test_forcibility.py",), "standard forcing: one controllable OR all uncontrollable"),
+    Mutation("force-preemptive-env", "forcibility", "synthesis/forcibility.py",
+             "return (env_states & all_u_ok) | (Q & ~env_states & some_c)",
+             "return (env_states & all_u_ok) | (Q & some_c)",
+             ("tests/test_forcibility.py",), "preemptive forcing ignores pending uncontrollable events"),
+    Mutation("witness-highest-rank", "witness", "synthesis/witness.py",
+             "e, q, k = min(forced, key=lambda s: (s[2], event_key(s[0])))",
+             "e, q, k = max(forced, key=lambda s: (s[2], event_key(s[0])))",
+             ("tests/test_witness.py",), "the controller forces the successor of highest rank"),
+    Mutation("sweep-no-closed-form", "tables", "geometry/collision.py",
+             "res[ii, jj] = turn_collides(mk, bm, pm[valid][ii], joint, delta, sk, bs, ps[jj], bsum)",
+             "res[ii, jj] = False",
+             ("tests/test_sweep.py", "tests/test_collision.py"), "swept entries the end points leave open are free"),
+    Mutation("sweep-unsound-prefilter", "tables", "geometry/collision.py",
+             "        length = float(mk.sweep_length(d))", "        length = 0.0",
+             ("tests/test_sweep.py", "tests/test_collision.py"), "the end-point prefilter forgets the sweep length"),
+    Mutation("sweep-no-reverse-arcs", "tables", "geometry/sweep.py",
+             "    return np.minimum(best, arc_segment_distance(c, b, -angle, p, q))",
+             "    return best",
+             ("tests/test_sweep.py", "tests/test_collision.py"), "the standing segment's end points are not turned back"),
+    Mutation("sweep-no-crossing", "tables", "geometry/sweep.py",
+             "        best = np.where(cut, 0.0, best)", "        best = best",
+             ("tests/test_sweep.py", "tests/test_collision.py"), "an arc crossing the segment is not distance 0"),
+    Mutation("reach-no-elbow", "tables", "geometry/kinematics.py",
+             "        return max(self.alpha, fibre)", "        return fibre",
+             ("tests/test_sweep.py", "tests/test_collision.py"), "reach ignores the elbow (the bug of issue 13)"),
+    Mutation("guards-not-symmetric", "tables", "planning/guards.py",
+             "        out[m, idx] |= w[rev, kin.flat_index(nxt[idx])]  # the way back must be free too",
+             "        pass",
+             ("tests/test_guards.py",), "blocked tables are not symmetrised (the lemma of the certificates)"),
+    Mutation("validator-endpoints-only", "validator", "problems/validate_motion.py",
+             "    samples = max(1, math.ceil(2 * float(travel.max()) / resolution))",
+             "    samples, lip = 1, 0 * lip",
+             ("tests/test_validate.py", "tests/test_safety.py"), "the validator checks only both ends of a step"),
+    Mutation("validator-short-neighbours", "validator", "problems/validate.py",
+             "    ia, ib = _close_pairs(bases, 2 * reach + 2 * buf.max(initial=0.0))",
+             "    ia, ib = _close_pairs(bases, reach)",
+             ("tests/test_validate.py", "tests/test_safety.py", "tests/test_cli_check.py"),
+             "the validator's neighbour bound misses pairs"),
+    Mutation("planner-frozen-window-certificate", "planner certificates", "planning/windows.py",
+             "            if len(members) == len(comp):\n"
+             "                return _Outcome(\"infeasible\", members=comp,",
+             "            if True:\n"
+             "                return _Outcome(\"infeasible\", members=comp,",
+             ("tests/test_planner_oracle.py", "tests/test_planner.py"),
+             "a failed window with its neighbours frozen is taken as a certificate"),
+    Mutation("planner-relaxed-frozen", "planner certificates", "planning/windows.py",
+             "            R = wm.system(members, None, init=c, merged=True)",
+             "            R = wm.system(members, c, init=c, merged=True)",
+             ("tests/test_planner_oracle.py", "tests/test_planner.py"),
+             "the relaxed sub-problem keeps the outsiders frozen (no longer a relaxation)"),
+    Mutation("descent-not-serialisable", "planner", "planning/descent.py",
+             "        if not _serialisable(T, k, side, c[p], mp, c[q], mq):",
+             "        if False:",
+             ("tests/test_planner_oracle.py", "tests/test_planner.py"),
+             "the descent moves neighbours together without checking every order"),
+]
+
+
+def run(m: Mutation, timeout: float) -> dict:
+    with tempfile.TemporaryDirectory(prefix="supcoord-mutant-") as tmp:
+        shutil.copytree(ROOT / "src", Path(tmp) / "src")
+        path = Path(tmp) / "src" / "supcoord" / m.path
+        text = path.read_text()
+        if text.count(m.old) != 1:
+            return {"status": f"pattern found {text.count(m.old)} times (update the mutation)", "test": "", "seconds": 0}
+        path.write_text(text.replace(m.old, m.new))
+        tests = [t for t in m.tests if (ROOT / t).exists()]
+        env = dict(os.environ, PYTHONPATH=str(Path(tmp) / "src"), HYPOTHESIS_PROFILE="quick")
+        cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", "-rfE",
+               "--timeout", "120", *tests]
+        t0 = time.perf_counter()
+        try:
+            proc = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return {"status": "caught (the tests hung: time limit)", "test": "", "seconds": timeout}
+        seconds = time.perf_counter() - t0
+        failed = [line.split(" ")[1] for line in proc.stdout.splitlines() if line.startswith(("FAILED ", "ERROR "))]
+        status = "caught" if proc.returncode != 0 else "SURVIVED"
+        return {"status": status, "test": failed[0] if failed else ("" if proc.returncode == 0 else proc.stdout[-200:]),
+                "seconds": seconds, "files": " ".join(tests)}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", help="run the mutations whose id contains this text")
+    ap.add_argument("--list", action="store_true", help="list the mutations and stop")
+    ap.add_argument("--timeout", type=float, default=900, help="seconds per mutation (default 900)")
+    args = ap.parse_args()
+    chosen = [m for m in MUTATIONS if not args.only or args.only in m.id]
+    if args.list:
+        for m in chosen:
+            print(f"{m.id:36} {m.area:22} {m.path}: {m.what}")
+        return 0
+    rows = []
+    for m in chosen:
+        r = run(m, args.timeout)
+        rows.append((m, r))
+        print(f"{m.id:36} {r['status']:10} {r['seconds']:7.1f} s  {r['test']}", flush=True)
+    caught = sum(r["status"].startswith("caught") for _, r in rows)
+    lines = ["# Mutation testing", "",
+             f"Command: `python benchmarks/mutations.py{' --only ' + args.only if args.only else ''}`  ",
+             f"Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  ",
+             f"Machine: {platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs), "
+             f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}  ",
+             f"Code: `{_version()}`", "",
+             f"**{caught} of {len(rows)} mutations caught.**", "",
+             "| mutation | area | what it breaks | caught by | seconds |", "|---|---|---|---|---|"]
+    for m, r in rows:
+        by = f"`{r['test']}`" if r["status"] == "caught" and r["test"] else r["status"]
+        lines.append(f"| `{m.id}` ({m.path}) | {m.area} | {m.what} | {by} | {r['seconds']:.0f} |")
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    tmp = RESULTS.with_suffix(".md.tmp")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, RESULTS)
+    print(f"{caught}/{len(rows)} caught; wrote {RESULTS.relative_to(ROOT)}")
+    return 0 if caught == len(rows) else 1
+
+
+def _version() -> str:
+    try:
+        return subprocess.run(["git", "describe", "--always", "--dirty"], cwd=ROOT, capture_output=True, text=True,
+                              timeout=10).stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
