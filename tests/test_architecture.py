@@ -33,9 +33,10 @@ ALLOWED: dict[str, set[str]] = {
     "cli": {"__init__", "paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd",
             "errors", "progress", "study", "outputs"},
     # the top level re-exports lazily; _compat forwards old names on demand (importlib)
-    "__init__": {"errors", "_compat", "des", "synthesis", "bdd", "paper", "geometry", "problems", "planning",
+    "__init__": {"errors", "_compat", "_boundary", "des", "synthesis", "bdd", "paper", "geometry", "problems", "planning",
                  "figures", "progress", "outputs"},
     "_compat": set(),
+    "_boundary": {"errors"},
 }
 MAX_LINES = 400
 

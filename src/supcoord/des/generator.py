@@ -15,6 +15,8 @@ References
 
 from __future__ import annotations
 
+import numbers
+
 from dataclasses import dataclass
 from typing import Iterable, Iterator, Mapping, Sequence
 
@@ -33,10 +35,10 @@ class Event:
 
 def tct_event(label: int | str) -> Event:
     """TCT's convention: an integer label, odd = controllable (``tct_event(71)``)."""
-    try:
-        number = int(label)
-    except (TypeError, ValueError):
-        raise InputError(f"TCT event labels are integers, got {label!r}", value=label) from None
+    if isinstance(label, bool) or not (isinstance(label, numbers.Integral)
+                                       or (isinstance(label, str) and label.strip().isdigit())):
+        raise InputError(f"TCT event labels are non-negative integers (or their digits), got {label!r}", value=label)
+    number = int(label)
     if number < 0:
         raise InputError(f"TCT event labels are non-negative, got {number}", value=label)
     return Event(str(number), number % 2 == 1)
@@ -111,8 +113,12 @@ class Generator:
         name: str = "G",
         state_names: Sequence[str] | None = None,
     ):
-        if not isinstance(states, int) or states < 0:
+        if isinstance(states, bool) or not isinstance(states, int) or states < 0:
             raise InputError(f"number of states must be a non-negative integer, got {states!r}", value=states)
+        if init is not None and (isinstance(init, bool) or not isinstance(init, numbers.Integral)):
+            raise InputError(f"the initial state must be an integer state index, got {init!r}", value=init)
+        if not isinstance(name, str):
+            raise InputError(f"a generator's name must be a string, got {name!r}", value=name)
         self.name = name
         self.n_states = states
         self.events: dict[str, Event] = merge_alphabets([list(events)])

@@ -115,6 +115,10 @@ class PaperInstance:
     neighbours: tuple[tuple[int, ...], ...]
 
     def __post_init__(self) -> None:
+        for name in ("start", "target", "priority", "neighbours"):
+            if not isinstance(getattr(self, name), (list, tuple)):
+                raise InputError(f"{name} must be a sequence with one entry per positioner, got "
+                                 f"{type(getattr(self, name)).__name__}", value=getattr(self, name), where=name)
         n, N = self.steps, len(self.start)
         if isinstance(n, bool) or not isinstance(n, int) or n < 2:
             raise InputError(f"steps must be an integer >= 2, got {n!r}", value=n)

@@ -91,6 +91,10 @@ def random_problem(layout: Any, kinematics: Any, buffer: float = 2.0, seed: int 
         bases = np.asarray(layout, float)
         layout_spec = {"kind": "points", "xy": bases.tolist()}
     n = len(bases)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**128:
+        raise InputError(f"seed must be an integer in [0, 2^128), got {seed!r}", value=seed, where="seed")
+    if priority not in ("random", "index"):
+        raise InputError(f"priority must be 'random' or 'index', got {priority!r}", value=priority, where="priority")
     rng = np.random.default_rng(seed)
     if start is None:
         start_conf = random_configuration(kin, bases, buffer, rng, attempts=attempts)

@@ -223,7 +223,7 @@ def _bfs(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: str) -
 
 
 def _sweep(ctx: Context, x: BDD, inside: BDD, steps: list[_Step], seen: list[BDD], idx: Iterable[int],
-           stage: str = "image", method: str = "chaining") -> BDD:
+           stage: str = "image", method: str = "chaining", iteration: int = 0) -> BDD:
     """Chaining over ``steps[i]`` for ``i`` in ``idx``: ``X := X ∪ Img_σ(X)``, skipping
     an event whose last operand ``seen_σ`` is ``X`` itself (its images are in ``X``).
     (Restricting the operand to the frontier ``X \\ seen_σ`` with Coudert's restrict
@@ -233,7 +233,7 @@ def _sweep(ctx: Context, x: BDD, inside: BDD, steps: list[_Step], seen: list[BDD
             continue
         seen[i] = x
         x = x | steps[i].image(ctx, x, inside)  # X ∪ Img_σ(X)
-        ctx.check_nodes(stage, method=method)
+        ctx.check_nodes(stage, iteration=iteration, method=method)
     return x
 
 
@@ -245,7 +245,7 @@ def _chaining(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: s
     x, xold, k = init, None, 0
     while x != xold:
         xold = x
-        x = _sweep(ctx, x, inside, steps, seen, everything, stage, "chaining")
+        x = _sweep(ctx, x, inside, steps, seen, everything, stage, "chaining", k + 1)
         k += 1
         ctx.check_budget(stage, iteration=k, method="chaining")
     return x
@@ -279,7 +279,7 @@ def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage:
         y, yold = x, None
         while y != yold:  # local fixpoint: μY. X ∪ ⋃_{σ ∈ cluster} Img_σ(Y)
             yold = y
-            y = _sweep(ctx, y, inside, steps, seen, clusters[c], stage, "saturation")
+            y = _sweep(ctx, y, inside, steps, seen, clusters[c], stage, "saturation", k + 1)
         if y != x:
             x = y
             dirty.update(dependents[c])
