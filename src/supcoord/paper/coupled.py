@@ -85,6 +85,11 @@ class CoupledModel:
     """Geometry tables of an instance: neighbour pairs, zone and swept-collision tables."""
 
     def __init__(self, inst: PaperInstance, geometry: Geometry | None = None, bases: np.ndarray | None = None):
+        if not isinstance(inst, PaperInstance):
+            raise InputError(f"CoupledModel needs a PaperInstance (paper_example, random_instance), got "
+                             f"{type(inst).__name__}", value=inst)
+        if geometry is not None and not isinstance(geometry, Geometry):
+            raise InputError(f"geometry must be a Geometry, got {type(geometry).__name__}", value=geometry)
         self.inst = inst
         self.geo = geometry or Geometry()
         self.bases = hex_sites(inst.size, self.geo.pitch) if bases is None else np.asarray(bases, float)
