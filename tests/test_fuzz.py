@@ -21,6 +21,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from supcoord.bdd.budget import current_rss
 from supcoord.cli.main import main
 from supcoord.testing.fuzz import mutate_gen, mutate_json
 
@@ -35,6 +36,12 @@ THREE = {
 FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
                                                                       HealthCheck.too_slow])
 SEEDS = st.integers(0, 2**32 - 1)
+
+
+def _memory() -> str:
+    """A memory budget 2 GiB above what this test process already holds (the budget is on
+    the resident size of the whole process, which the test run shares)."""
+    return f"{(current_rss() + 2**31) // 2**20}M"
 
 
 def run(*argv):
@@ -73,7 +80,7 @@ def seeds(tmp_path_factory):
 def test_mutated_problem_files(seeds, tmp_path, seed):
     path = tmp_path / "problem.json"
     path.write_bytes(mutate_json(seeds["problem.json"], random.Random(seed)))
-    code, _, err = run("solve", path, "--json", "--quiet", "--timeout", "20", "--max-memory", "4G")
+    code, _, err = run("solve", path, "--json", "--quiet", "--timeout", "20", "--max-memory", _memory())
     _assert_clean(code, err, "problem.json")
 
 
@@ -94,9 +101,9 @@ def test_mutated_plan_files(seeds, tmp_path, seed):
 def test_mutated_gen_files(seeds, tmp_path, seed):
     path = tmp_path / "m.gen"
     path.write_bytes(mutate_gen(seeds["m.gen"], random.Random(seed)))
-    code, _, err = run("supcon", "--plant", path, "--json", "--quiet", "--timeout", "20", "--max-memory", "4G")
+    code, _, err = run("supcon", "--plant", path, "--json", "--quiet", "--timeout", "20", "--max-memory", _memory())
     _assert_clean(code, err, "m.gen")
-    code, _, err = run("force", path, "--json", "--quiet", "--timeout", "20", "--max-memory", "4G")
+    code, _, err = run("force", path, "--json", "--quiet", "--timeout", "20", "--max-memory", _memory())
     _assert_clean(code, err, "m.gen")
 
 
@@ -106,7 +113,7 @@ def test_mutated_gen_files(seeds, tmp_path, seed):
 def test_mutated_json_generators(seeds, tmp_path, seed):
     path = tmp_path / "m.json"
     path.write_bytes(mutate_json(seeds["m.json"], random.Random(seed)))
-    code, _, err = run("supcon", "--plant", path, "--json", "--quiet", "--timeout", "20", "--max-memory", "4G")
+    code, _, err = run("supcon", "--plant", path, "--json", "--quiet", "--timeout", "20", "--max-memory", _memory())
     _assert_clean(code, err, "m.json")
 
 

@@ -73,7 +73,6 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 from . import _compat, errors
-from ._boundary import checked
 from .errors import (
     AlphabetError,
     BudgetExceeded,
@@ -226,6 +225,8 @@ def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'supcoord' has no attribute {name!r}")
+    from ._boundary import checked  # here, not at the top: `import supcoord` stays instant
+
     value = checked(getattr(importlib.import_module(module), name))  # arguments checked at the boundary
     globals()[name] = value  # cache: the next access is a plain attribute
     return value

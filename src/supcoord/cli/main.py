@@ -19,7 +19,7 @@ import signal
 import sys
 import threading
 import time
-from typing import Callable, Iterator, Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
@@ -178,23 +178,27 @@ WATCHDOG_TICK = 0.25
 @contextlib.contextmanager
 def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
     """Enforce ``--timeout`` and ``--max-memory`` also where no fixpoint checks them: a
-    ``SIGALRM`` every :data:`WATCHDOG_TICK` seconds raises :class:`BudgetExceeded` (with
-    the last progress report as partial statistics) once the time passes ``timeout +
-    WATCHDOG_GRACE`` or the resident memory passes the memory budget.  (A single BDD or
-    numpy operation still runs to its end: the handler runs when the interpreter gets
-    control back.)  POSIX main thread only; elsewhere the fixpoints' own checks are the
-    budget.  Bad values of the options are refused here, before any work."""
+    thread looks at the clock and the resident memory every :data:`WATCHDOG_TICK`
+    seconds and, once the time passes ``timeout + WATCHDOG_GRACE`` or the memory passes
+    the memory budget, interrupts the main thread (``signal.pthread_kill`` with
+    ``SIGUSR2``, a real signal that also ends a sleep; its handler raises
+    :class:`BudgetExceeded` with the last progress report as partial statistics).  No interval timer is used, so ``SIGALRM`` stays free for the
+    caller (a test runner's own time limit).  A single BDD or numpy operation still runs
+    to its end: the handler runs when the interpreter gets control back.  Main thread only;
+    elsewhere the fixpoints' own checks are the budget.  Bad values of the options are
+    refused here, before any work."""
     if not getattr(args, "func", None) or not hasattr(args, "timeout"):
         yield
         return
     budget = budget_from_args(args)
     timeout, max_memory = budget.timeout, budget.max_memory
-    usable = ((timeout is not None or max_memory is not None) and hasattr(signal, "setitimer")
+    usable = ((timeout is not None or max_memory is not None) and hasattr(signal, "pthread_kill")
               and threading.current_thread() is threading.main_thread())
     if not usable:
         yield
         return
     started = time.perf_counter()
+    reason: list[tuple[str, dict, Any]] = []
 
     def where_and_stats() -> tuple[str, dict]:
         if console.last is None:
@@ -203,28 +207,38 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
         stats = {"stage": stage, **{k: v for k, v in info.items() if k != "nodes"}, "bdd_nodes": info.get("nodes")}
         return f"after the last report of {stage}", stats
 
-    def tick(signum, frame):  # noqa: ARG001
-        elapsed = time.perf_counter() - started
-        if timeout is not None and elapsed > timeout + WATCHDOG_GRACE:
-            where, stats = where_and_stats()
-            raise BudgetExceeded(f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
-                                 stats={**stats, "seconds": elapsed, "watchdog": True}, value=timeout)
-        if max_memory is not None:
-            rss = current_rss()
-            if rss > max_memory:
+    def watch() -> None:
+        while not stop.wait(WATCHDOG_TICK):
+            elapsed = time.perf_counter() - started
+            if timeout is not None and elapsed > timeout + WATCHDOG_GRACE:
                 where, stats = where_and_stats()
-                raise BudgetExceeded(f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident > "
-                                     f"{max_memory / 2**20:.0f} MiB",
-                                     stats={**stats, "seconds": elapsed, "rss_bytes": rss, "watchdog": True},
-                                     value=max_memory)
+                reason.append((f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
+                               {**stats, "seconds": elapsed, "watchdog": True}, timeout))
+            elif max_memory is not None and (rss := current_rss()) > max_memory:
+                where, stats = where_and_stats()
+                reason.append((f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident > "
+                               f"{max_memory / 2**20:.0f} MiB",
+                               {**stats, "seconds": elapsed, "rss_bytes": rss, "watchdog": True}, max_memory))
+            if reason:
+                signal.pthread_kill(main_thread, signal.SIGUSR2)  # a real signal: it also ends a sleep
+                return
 
-    previous = signal.signal(signal.SIGALRM, tick)
-    signal.setitimer(signal.ITIMER_REAL, WATCHDOG_TICK, WATCHDOG_TICK)
+    def expire(signum, frame):  # noqa: ARG001
+        if reason:
+            message, stats, value = reason[0]
+            raise BudgetExceeded(message, stats=stats, value=value)
+
+    previous = signal.signal(signal.SIGUSR2, expire)
+    main_thread = threading.main_thread().ident
+    stop = threading.Event()
+    watcher = threading.Thread(target=watch, name="supcoord-watchdog", daemon=True)
+    watcher.start()
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+        stop.set()
+        watcher.join()
+        signal.signal(signal.SIGUSR2, previous)
 
 
 def _os_error(exc: OSError) -> str:
