@@ -22,7 +22,8 @@ from typing import Iterable, Iterator, Mapping, Sequence
 
 from ..errors import AlphabetError, InputError, NondeterminismError
 
-__all__ = ["Event", "Generator", "tct_event", "merge_alphabets", "check_equal_alphabets", "check_new_events", "event_key"]
+__all__ = ["Event", "Generator", "tct_event", "merge_alphabets", "check_equal_alphabets", "check_new_events", "event_key",
+           "MAX_STATES"]
 
 
 @dataclass(frozen=True, order=True)
@@ -31,6 +32,10 @@ class Event:
 
     name: str
     controllable: bool
+
+
+#: most states of an explicit generator (each becomes Python objects, then a BDD minterm)
+MAX_STATES = 10_000_000
 
 
 def tct_event(label: int | str) -> Event:
@@ -115,6 +120,9 @@ class Generator:
     ):
         if isinstance(states, bool) or not isinstance(states, int) or states < 0:
             raise InputError(f"number of states must be a non-negative integer, got {states!r}", value=states)
+        if states > MAX_STATES:
+            raise InputError(f"an explicit generator has at most {MAX_STATES} states, got {states}", value=states,
+                             where="states")
         if init is not None and (isinstance(init, bool) or not isinstance(init, numbers.Integral)):
             raise InputError(f"the initial state must be an integer state index, got {init!r}", value=init)
         if not isinstance(name, str):
