@@ -9,13 +9,21 @@ synthesis has work to do (components with marked states, both kinds of events), 
 ``describe_system`` classifies an instance so tests can assert that the cases they ran
 cover what they claim (several components, mixed controllability, supervisors that are
 nonempty and strictly smaller than the trim product).
+
+``tight_route(clearance)`` is a constructed problem whose only plan passes one move with
+exactly ``clearance`` mm to spare.  ``tight_problems()`` draws random tight geometric problems (PROBLEM.json dicts of
+:func:`supcoord.testing.oracle.cases.tight_problem`: rotary or alpha-beta, 2–6
+positioners, about 40 % without a plan), for comparisons with the independent oracle.
 """
 
 from __future__ import annotations
 
+import math
+
 from hypothesis import strategies as st
 
 from supcoord.des.generator import Event, Generator
+from supcoord.testing.oracle.cases import tight_problem
 
 EVENT_NAMES = ["a", "b", "c", "d", "e", "f", "g", "h"]
 
@@ -88,7 +96,7 @@ def systems(draw, max_plants: int = 3, max_specs: int = 2, max_states: int = 4):
     for i in range(k):
         events = list(own[i])
         if k > 1 and draw(st.booleans()):  # share an event with another component
-            j = draw(st.integers(0, k - 1).filter(lambda j: j != i))
+            j = draw(st.integers(0, k - 1).filter(lambda j, i=i: j != i))
             events.append(draw(st.sampled_from(own[j])))
         p = draw(st.sampled_from([0.5, 0.7, 0.9]))
         plants.append(draw(generators(events, max_states, f"P{i}", full_alphabet=True, density=p, min_states=2,
@@ -128,3 +136,26 @@ def describe_system(plants: list[Generator], G: Generator, V: Generator, product
     elif product_trim.n_states:
         labels.add("emptied")
     return labels
+
+
+@st.composite
+def tight_problems(draw, min_n: int = 2, max_n: int = 4, max_product: int = 50_000, ties: bool = False) -> dict:
+    """A random tight problem as PROBLEM.json (module docstring), seeded by the draw;
+    ``ties=False`` leaves out the seeds with round numbers (arms touching at exactly the
+    buffer sum, where the oracle answers with bounds rather than one distance)."""
+    seed = draw(st.integers(0, 10**6).filter(lambda s: ties or s % 10 != 7))
+    n = draw(st.integers(min_n, max_n))
+    return tight_problem(seed, n=n, max_product=max_product)
+
+
+def tight_route(clearance: float, angle_deg: float = -15.0) -> dict:
+    """Rotary ``a`` (arm 10, 12 steps) must turn 0 → 3 clockwise: the way round is shut by
+    ``c``'s base at (0, 13) (3 mm from ``a``'s tip at 90°, buffers 2 + 2).  ``b``'s base
+    stands ``10 + 4 + clearance`` from ``a``'s base at ``angle_deg`` (mid-step 0 → 1 for
+    −15°) with its arm pointing away, so whatever ``b`` does, the move 0 → 1 passes it with
+    exactly ``clearance`` to spare: the problem has a 3-move plan iff that move is free."""
+    rb = 14.0 + clearance
+    b = rb * complex(math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
+    return {"layout": {"kind": "points", "xy": [[0.0, 0.0], [b.real, b.imag], [0.0, 13.0]]},
+            "kinematics": {"kind": "rotary", "arm": 10.0, "steps": 12}, "collision": {"buffer": 2.0},
+            "start": [0, 0, 9], "target": [3, 0, 9]}

@@ -203,3 +203,13 @@ def _lazy_table() -> str:
         if isinstance(node, ast.AnnAssign) and getattr(node.target, "id", "") == "_LAZY":
             return ast.unparse(node.value)
     raise AssertionError("supcoord/__init__.py has no _LAZY table")
+
+
+def test_the_geometric_oracle_shares_no_code_with_what_it_checks():
+    """supcoord.testing.oracle imports nothing of supcoord but errors and itself: not the
+    geometry, the planner or the problems it is an independent opinion about."""
+    oracle = [name for name in MODULES if name.startswith("supcoord.testing.oracle")]
+    assert len(oracle) > 3
+    for name in oracle:
+        outside = {m for m in _imports(name) if not m.startswith("supcoord.testing.oracle")}
+        assert outside <= {"supcoord.errors"}, (name, sorted(outside))

@@ -1,4 +1,11 @@
-"""Explicit twins of the symbolic planner: breadth-first search over configurations.
+"""Explicit twins of the planner's *encoding*: breadth-first search over the planner's own guards.
+
+**Not a geometric oracle.**  Every function here reads the planner's guards
+(:func:`supcoord.planning.guards.blocked_table`, :func:`~supcoord.planning.guards.conflict_graph`,
+the collision tables behind them, :func:`supcoord.geometry.collision.motion_collides`), so
+"symbolic = BFS" checks that the BDDs encode those guards — not that the guards are
+right.  Geometric verdicts are checked against :mod:`supcoord.testing.oracle`, which
+shares no code with the planner.
 
 - :func:`bfs_plan_naive` — the single-move (interleaving) semantics of ``docs/formats.md``
   on the same guarded model as :mod:`supcoord.planning.model`::
@@ -38,7 +45,7 @@ from ..planning.guards import blocked_table, conflict_graph
 from ..problems.plan import Move
 from ..problems.problem import Problem
 
-__all__ = ["bfs_plan_naive", "optimal_makespan_naive", "reachable_naive", "blockers_naive", "MAX_NAIVE_STATES"]
+__all__ = ["MAX_NAIVE_STATES", "bfs_plan_naive", "blockers_naive", "optimal_makespan_naive", "reachable_naive"]
 
 #: refuse explicit searches over more configurations than this
 MAX_NAIVE_STATES = 5_000_000
