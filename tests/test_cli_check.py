@@ -1,4 +1,7 @@
-"""``supcoord check``: JSON answers, exit 0 for (in)valid plans, exit 2 with one line for user errors."""
+"""``supcoord check``: JSON answers, exit 0 for (in)valid plans, exit 2 with one line for user errors.
+
+The valid plans checked are the independent oracle's (``test_validate.oracle_plan_moves``), not the planner's.
+"""
 
 import contextlib
 import copy
@@ -8,7 +11,7 @@ import json
 import numpy as np
 from hypothesis import given, settings
 from test_problem import ROTARY, mutated_problems
-from test_validate import THREE, bfs_moves
+from test_validate import THREE, oracle_plan_moves
 
 from supcoord.cli.main import main
 from supcoord.problems import Plan, parse_problem, plan_from_moves
@@ -29,10 +32,10 @@ def _write(tmp_path, name, data):
 
 def test_valid_and_invalid_plans_exit_0(tmp_path):
     problem = parse_problem(copy.deepcopy(THREE))
-    plan = plan_from_moves(problem, bfs_moves(problem))
+    plan = plan_from_moves(problem, oracle_plan_moves(problem))
     pf = _write(tmp_path, "problem.json", THREE)
     good = _write(tmp_path, "plan.json", plan.to_json(problem.kinematics))
-    code, out, err = run("check", pf, good, "--json")
+    code, out, _ = run("check", pf, good, "--json")
     result = json.loads(out)
     assert code == 0 and result["valid"] and result["collisions"] == 0 and result["at_target"] == 3
     assert set(result) >= {"valid", "collisions", "at_target", "problems"}
@@ -93,11 +96,11 @@ def test_figure_draws_the_collisions_found(tmp_path):
     pf = _write(tmp_path, "problem.json", THREE)
     confs = [[0, -k % 12, 0] for k in range(7)]  # 1 turns back through 0's arm
     plan = _write(tmp_path, "bad.json", {"status": "complete", "configurations": confs})
-    code, out, err = run("check", pf, plan, "--figure", str(tmp_path / "bad.png"), "--json")
+    code, out, _ = run("check", pf, plan, "--figure", str(tmp_path / "bad.png"), "--json")
     result = json.loads(out)
     assert code == 0 and not result["valid"] and result["incidents"][0]["positioners"] == [0, 1]
     assert Image.open(tmp_path / "bad.png").format == "PNG"
-    code, out, err = run("check", pf, plan, "--figure", str(tmp_path / "bad.gif"))
+    code, out, _ = run("check", pf, plan, "--figure", str(tmp_path / "bad.gif"))
     assert code == 0 and "figure written to" in out and Image.open(tmp_path / "bad.gif").n_frames == 6 * 4 + 1
     line = _one_line_error(*run("check", pf, plan, "--figure", str(tmp_path / "bad.bmp")))
     assert "--figure must end in" in line and "bad.bmp" in line
@@ -107,7 +110,8 @@ def test_figure_draws_the_collisions_found(tmp_path):
 
 def test_unknown_fields_are_warned_on_stderr(tmp_path):
     problem = parse_problem(copy.deepcopy(THREE))
-    plan = _write(tmp_path, "plan.json", plan_from_moves(problem, bfs_moves(problem)).to_json(problem.kinematics))
+    plan = plan_from_moves(problem, oracle_plan_moves(problem))
+    plan = _write(tmp_path, "plan.json", plan.to_json(problem.kinematics))
     pf = _write(tmp_path, "typo.json", dict(THREE, prority=[3, 2, 1]))
     code, out, err = run("check", pf, plan, "--json")
     assert code == 0 and json.loads(out)["valid"]

@@ -1,8 +1,7 @@
-"""The independent validator; plans built on the collision tables; compaction; PLAN.json."""
+"""The independent validator; plans of the independent oracle; compaction; PLAN.json."""
 
 import copy
 import json
-from collections import deque
 
 import numpy as np
 import pytest
@@ -25,6 +24,10 @@ from supcoord.problems import (
 )
 from supcoord.problems.plan import apply_moves
 from supcoord.problems.validate import hex_bases_by_angle
+from supcoord.testing.oracle import FREE, HIT, oracle_motion, oracle_moves
+from supcoord.testing.oracle.model import OracleProblem
+from supcoord.testing.oracle.sweep import TIE
+from supcoord.testing.oracle.tables import PairTables
 
 # the seed paper's picture: three rotary positioners in a row, arms long enough to meet
 THREE = {
@@ -45,43 +48,10 @@ TWO_AB = {
 }
 
 
-def bfs_moves(problem):
-    """Shortest single-move sequence start → target allowed by the swept tables (explicit BFS)."""
-    kin, tables = problem.kinematics, problem.tables()
-    nbrs = [tables.neighbours_of(p) for p in range(problem.n)]
-    start = tuple(int(i) for i in kin.flat_index(problem.start))
-    goal = tuple(int(i) for i in kin.flat_index(problem.target))
-    pos = kin.all_positions()
-    parent = {start: None}
-    queue = deque([start])
-    while queue:
-        s = queue.popleft()
-        if s == goal:
-            break
-        for p in range(problem.n):
-            for m, (joint, delta) in enumerate(kin.moves()):
-                nxt = kin.step(pos[s[p]], joint, delta)
-                if nxt is None:
-                    continue
-                blocked = False
-                for k, other, side in nbrs[p]:
-                    i, j = (s[p], s[other]) if side == 0 else (s[other], s[p])
-                    if tables.swept(k, side)[m, i, j]:
-                        blocked = True
-                        break
-                if blocked:
-                    continue
-                t = s[:p] + (int(kin.flat_index(nxt)),) + s[p + 1:]
-                if t not in parent:
-                    parent[t] = (s, (p, joint, delta))
-                    queue.append(t)
-    if goal not in parent:
-        return None
-    moves, s = [], goal
-    while parent[s] is not None:
-        s, mv = parent[s]
-        moves.append(mv)
-    return moves[::-1]
+def oracle_plan_moves(problem):
+    """A shortest single-move sequence start → target of the independent oracle (its own
+    geometry and search, none of the planner's tables), or None."""
+    return oracle_moves(problem.to_json())
 
 
 @pytest.fixture(scope="module")
@@ -91,10 +61,10 @@ def three():
 
 @pytest.fixture(scope="module")
 def three_moves(three):
-    return bfs_moves(three)
+    return oracle_plan_moves(three)
 
 
-def test_table_plans_pass_the_validator(three, three_moves):
+def test_oracle_plans_pass_the_validator(three, three_moves):
     assert three_moves is not None
     single = Plan("complete", apply_moves(three, three_moves), lower_bound=lower_bound(three))
     result = validate_plan(three, single)
@@ -107,9 +77,9 @@ def test_table_plans_pass_the_validator(three, three_moves):
     assert [parse_event(three.kinematics, e) for e in plan.events] == list(three_moves)
 
 
-def test_alpha_beta_table_plan_passes_the_validator():
+def test_alpha_beta_oracle_plan_passes_the_validator():
     p = parse_problem(copy.deepcopy(TWO_AB))
-    moves = bfs_moves(p)
+    moves = oracle_plan_moves(p)
     assert moves is not None
     plan = plan_from_moves(p, moves)
     result = validate_plan(p, plan)
@@ -253,7 +223,7 @@ def test_validator_rebuilds_hex_bases_and_reports_a_wrong_one():
 
 def test_incidents_are_listed_up_to_the_limit(three):
     # 0 stands at +x while 1 turns backwards through pointing at 0, and again forwards
-    confs = [np.array([[0], [-k % 12], [0]]) for k in range(0, 7)]
+    confs = [np.array([[0], [-k % 12], [0]]) for k in range(7)]
     confs += confs[::-1][1:]
     r = validate_plan(three, Plan("complete", confs))
     assert r["collisions"] == len(r["incidents"]) >= 2
@@ -274,7 +244,9 @@ def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle
     """Table free ⇒ the validator sees no collision; validator collision ⇒ the table blocks; a
     blocked move the validator passes is a close call (clearance within its sampling error).
     The table entry is computed by the tables' own primitive (``motion_collides``, what
-    ``swept_table`` calls for the entries its end-point bounds leave open)."""
+    ``swept_table`` calls for the entries its end-point bounds leave open).  The oracle is the
+    third opinion: its verdict decides, and its exact least distance of the turn says how
+    close a call was."""
     from supcoord.geometry.collision import motion_collides
 
     base_b = [dist * np.cos(angle), dist * np.sin(angle)]
@@ -302,6 +274,17 @@ def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle
         assert blocked
     if blocked and result["valid"]:
         assert result["min_clearance"] < 0.05 / 2 + 1e-3
+    da = d.astype(int)
+    oracle = oracle_motion(p.to_json(), 0, qa, da, 1, qb, np.zeros(k.n_joints, dtype=int))
+    least = float(PairTables(OracleProblem.from_json(p.to_json()).arm, complex(*base_b), 4.0)
+                  .least_on_turn(qa[None], da[None], qb[None], np.zeros((1, k.n_joints), dtype=int))[0])
+    if abs(least - 4.0) > TIE:  # a tie (a touch at exactly 4 mm, up to rounding) has no one answer
+        assert oracle == (HIT if least < 4.0 else FREE)
+        assert blocked == (oracle == HIT)  # the tables' exact turn and the oracle agree
+    if oracle == FREE:
+        assert result["valid"], result["problems"]
+    elif least < 4.0 - 1e-5:  # deeper than the validator's bisection tolerance: it must see it
+        assert result["collisions"] and result["min_clearance"] < 0
 
 
 @pytest.mark.parametrize("kin", [ROT_KIN, AB_KIN], ids=["rotary", "alpha-beta"])
@@ -331,7 +314,7 @@ def test_events_must_name_moves_that_lead_to_the_last_configuration(three, three
         r = validate_plan(three, Plan("complete", plan.configurations, events=events))
         assert not r["valid"] and any(message in p for p in r["problems"]), (events, r["problems"])
     ab = parse_problem(copy.deepcopy(TWO_AB))
-    moves = bfs_moves(ab)
+    moves = oracle_plan_moves(ab)
     r = validate_plan(ab, plan_from_moves(ab, moves))
     assert r["valid"], r["problems"]
     r = validate_plan(ab, Plan("complete", plan_from_moves(ab, moves).configurations, events=["v0"]))
