@@ -208,9 +208,11 @@ def kinematics_from_spec(spec: Any, where: str | None = None) -> Kinematics:
     try:
         if kind == "rotary":
             _require(spec, ("arm", "steps"), where)
+            _wrapping_steps(spec, "steps")
             return Rotary(spec["arm"], spec["steps"])
         if kind == "alpha-beta":
             _require(spec, ("alpha", "beta", "alpha_steps", "beta_steps"), where)
+            _wrapping_steps(spec, "alpha_steps")
             return AlphaBeta(spec["alpha"], spec["beta"], spec["alpha_steps"], spec["beta_steps"],
                              spec.get("beta_range", [0.0, 180.0]))
     except InputError as exc:
@@ -219,6 +221,16 @@ def kinematics_from_spec(spec: Any, where: str | None = None) -> Kinematics:
             exc.args = (exc.one_line(),)
         raise
     raise FormatError(f"kinematics.kind must be 'rotary' or 'alpha-beta', got {_short(kind)}", value=kind, where=where)
+
+
+def _wrapping_steps(spec: dict, field: str) -> None:
+    """A wrapping joint of a problem needs at least 3 steps: with 2, both moves reach the same
+    position by opposite half-turns, so a plan's configurations cannot say which turn was
+    made (and the way back would not retrace the way there)."""
+    v = spec[field]
+    if _is_int(v) and v == 2:
+        raise InputError(f"kinematics.{field} must be at least 3 for a joint that wraps (with 2 steps both moves "
+                         f"reach the same position by opposite half-turns), got 2", value=v)
 
 
 def _require(spec: dict, fields: tuple[str, ...], where: str | None) -> None:
