@@ -1,0 +1,249 @@
+"""Running one case, in the process that will report it (:mod:`.child` calls it).
+
+:func:`run_case` computes one case of :mod:`.kinds` with the library and returns its
+**measurement**: a dict with ``status`` (``ok``, ``timeout``, ``out-of-memory``,
+``error``), ``message``, ``seconds`` (the computation alone: no interpreter start, no
+imports, no validator), ``bdd_nodes`` (peak live nodes, or the supervisor's node count
+where the library reports that), ``states`` (exact, as text, while it has at most 4000
+digits), ``states_log10``, ``verdict``, ``makespan``, ``lower_bound``, ``positioners``,
+``size`` and ``extra`` (the kind's other numbers: timings, rank, windows, certificate …).
+
+Budgets: the case's time limit becomes the library's :class:`~supcoord.bdd.budget.Budget`
+timeout, so a long fixpoint stops cleanly between iterations with the statistics so far
+(status ``timeout``); its memory limit becomes a node budget (80 % of it at 80 bytes per
+node, the command line's rule, ``docs/cli.md``), so a BDD that would not fit stops as
+``out-of-memory`` before the address-space limit (:mod:`.child`) is hit.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from typing import Any
+
+from ..errors import BudgetExceeded, SupcoordError
+
+__all__ = ["BYTES_PER_NODE", "outcome_of_exception", "run_case"]
+
+#: bytes per live BDD node assumed for the node budget (supcoord.cli.common.BYTES_PER_NODE)
+BYTES_PER_NODE = 80
+#: the standard measurement fields a ``call`` function's returned dict may set directly
+STANDARD = ("seconds", "bdd_nodes", "states", "states_log10", "verdict", "makespan", "lower_bound", "positioners",
+            "size")
+
+
+def _budget(time_limit: float | None, memory_limit_mb: float | None):
+    from ..bdd.budget import Budget
+
+    nodes = None if memory_limit_mb is None else max(1000, int(memory_limit_mb * 2**20 * 0.8 / BYTES_PER_NODE))
+    return Budget(max_nodes=nodes, timeout=time_limit)
+
+
+def _count(states: int | None) -> dict[str, Any]:
+    if states is None:
+        return {}
+    log10 = _log10(states) if states > 0 else None
+    return {"states": str(states) if states.bit_length() < 13_000 else None, "states_log10": log10}
+
+
+def _log10(n: int) -> float:
+    """log10 of an integer of any size (float conversion overflows past 10^308)."""
+    shift = max(0, n.bit_length() - 60)
+    return math.log10(n >> shift) + shift * math.log10(2)
+
+
+def run_case(kind: str, params: dict[str, Any], time_limit: float | None = None,
+             memory_limit_mb: float | None = None) -> dict[str, Any]:
+    """The measurement of one case (module docstring); library errors become a status."""
+    budget = _budget(time_limit, memory_limit_mb)
+    try:
+        out = {"paper": _paper, "solve": _solve, "supcon": _supcon, "force": _force, "call": _call}[kind](params, budget)
+        out.setdefault("status", "ok")
+        return out
+    except BaseException as exc:
+        outcome = outcome_of_exception(exc)
+        if outcome is None:
+            raise
+        return outcome
+
+
+def outcome_of_exception(exc: BaseException) -> dict[str, Any] | None:
+    """``{status, message, ...}`` for an exception a case may end with (None: re-raise)."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    if isinstance(exc, BudgetExceeded):
+        stats = exc.stats
+        status = "out-of-memory" if text.startswith("node budget") else "timeout"
+        return {"status": status, "message": text[:500], "seconds": stats.get("seconds"),
+                "bdd_nodes": stats.get("bdd_nodes"), "extra": {"stage": stats.get("stage")}}
+    if isinstance(exc, MemoryError) or (isinstance(exc, (RuntimeError, ValueError)) and (
+            "out of memory" in text.lower() or "`NULL` pointer" in text)):
+        return {"status": "out-of-memory", "message": f"{type(exc).__name__}: {text}"[:500]}
+    if isinstance(exc, SupcoordError):
+        return {"status": "error", "message": exc.one_line()[:500]}
+    return None
+
+
+# -- the kinds ----------------------------------------------------------------------------------
+
+
+def _paper(p: dict[str, Any], budget) -> dict[str, Any]:
+    from ..bdd.context import Context
+    from ..paper.run import run_paper
+
+    ctx = Context(budget=budget)
+    t0 = time.perf_counter()
+    run = run_paper(p["positioners"], p["steps"], p["model"], p["seed"], p["semantics"], ctx, route=p["route"],
+                    count_transitions=p["count_transitions"])
+    seconds = time.perf_counter() - t0
+    pay = run.payload
+    extra = {k: pay.get(k) for k in ("rank", "witness_length", "certificate", "timings", "distinct_components")}
+    extra["supervisor_transitions"] = None if pay.get("supervisor_transitions") is None else str(pay["supervisor_transitions"])
+    return {"seconds": seconds, "bdd_nodes": pay["bdd_nodes"], **_count(run.supcon.stats["states"]),
+            "verdict": "forcible" if pay["ccc"] else "not forcible", "positioners": pay["positioners"],
+            "size": pay["positioners"], "extra": extra}
+
+
+def problem_of(p: dict[str, Any]):
+    """The :class:`~supcoord.problems.problem.Problem` of a ``solve`` case."""
+    if p["problem"] == "random":
+        from ..problems.random import random_problem
+
+        layout = dict(p["layout"] or {"kind": "hex", "pitch": 22.4})
+        if p["rings"] is not None:
+            layout["rings"] = p["rings"]
+        return random_problem(layout, p["kinematics"], 2.0 if p["buffer"] is None else p["buffer"], p["seed"],
+                              priority=p["priority"])
+    if p["problem"] == "preset":
+        from ..problems.presets import preset_problem
+
+        options = {k: p[k] for k in ("alpha_steps", "beta_steps", "buffer", "start") if p[k] is not None}
+        return preset_problem(p["instrument"], 2 if p["rings"] is None else p["rings"], p["seed"],
+                              priority=p["priority"], **options)
+    from ..problems.problem import load_problem
+
+    return load_problem(p["problem"])
+
+
+def _solve(p: dict[str, Any], budget) -> dict[str, Any]:
+    from ..planning.planner import solve
+    from ..problems.validate import validate_plan
+
+    problem = problem_of(p)
+    t0 = time.perf_counter()
+    try:
+        plan = solve(problem, route=p["route"], order=p["order"], budget=budget, validate=False, improve=p["improve"])
+    except BudgetExceeded as exc:
+        out = outcome_of_exception(exc)
+        out["extra"].update({k: exc.stats.get(k) for k in ("windows", "largest_window")})
+        return {**out, "positioners": problem.n, "size": problem.n}
+    seconds = time.perf_counter() - t0
+    s = plan.stats
+    extra = {k: s.get(k) for k in ("windows", "largest_window", "single_moves", "schedule", "improve_seconds")}
+    out = {"seconds": seconds, "bdd_nodes": s.get("bdd_nodes"), "verdict": plan.status, "positioners": problem.n,
+           "size": problem.n, "lower_bound": plan.lower_bound, "extra": extra}
+    if plan.status == "complete":
+        out["makespan"] = plan.makespan
+        if p["validate"]:
+            t1 = time.perf_counter()
+            result = validate_plan(problem, plan)
+            extra.update(valid=result["valid"], validate_seconds=time.perf_counter() - t1)
+            if not result["valid"]:
+                out.update(status="error", message=f"the plan fails validation: {result['problems'][:2]}")
+    else:
+        extra["certificate"] = s.get("certificate")
+        out["message"] = plan.reason[:500]
+    return out
+
+
+def _family(ctx, family: str, size: int, method: str = "saturation"):
+    from ..des import families, symbolic_ops
+    from ..synthesis.supcon import lift_spec, supcon
+
+    plants, specs = families.FAMILIES[family](size)
+    G, E = families.to_symbolic(ctx, plants, specs)
+    E = lift_spec(G, E) if E is not None else symbolic_ops.allevents(ctx, G)
+    return supcon(G, E, method=method)
+
+
+def _supcon(p: dict[str, Any], budget) -> dict[str, Any]:
+    from ..bdd.context import Context
+
+    ctx = Context(budget=budget)
+    t0 = time.perf_counter()
+    res = _family(ctx, p["family"], p["size"], p["method"])
+    seconds = time.perf_counter() - t0
+    st = res.stats
+    return {"seconds": seconds, "bdd_nodes": st["bdd_nodes"], **_count(st["states"]), "size": p["size"],
+            "verdict": "empty" if st["states"] == 0 else "nonempty",
+            "extra": {"transitions": str(st["transitions"]), "iterations": st.get("iterations")}}
+
+
+def _force(p: dict[str, Any], budget) -> dict[str, Any]:
+    from ..bdd.context import Context
+    from ..synthesis.ccc import ccc
+
+    ctx = Context(budget=budget)
+    t0 = time.perf_counter()
+    if p["family"] is not None:
+        V = _family(ctx, p["family"], p["size"]).supervisor
+        target = None
+    else:
+        from ..des.io import read_generator
+        from ..des.symbolic import from_explicit
+
+        g = read_generator(p["generator"])
+        V = from_explicit(ctx, g, "q")
+        target = None if p["target"] == "marked" else V.state_of({"q": _state(g, p["target"])})
+    t1 = time.perf_counter()
+    c = ccc(V, p["semantics"], target=target)
+    t2 = time.perf_counter()
+    return {"seconds": t2 - t1, "bdd_nodes": c.stats.get("bdd_nodes"), **_count(V.count_states()), "size": p["size"],
+            "verdict": "forcible" if c.forcible else "not forcible",
+            "extra": {"rank": c.rank, "layers": len(c.layers), "setup_seconds": t1 - t0,
+                      "witness_length": len(c.witness)}}
+
+
+def _state(g, text: str) -> int:
+    from ..errors import InputError
+
+    if g.state_names is not None and text in g.state_names:
+        return g.state_names.index(text)
+    if text.isdigit() and int(text) < g.n_states:
+        return int(text)
+    raise InputError(f"unknown state {text!r}", value=text, where="target")
+
+
+def _accepts(func, name: str) -> bool:
+    import inspect
+
+    try:
+        params = inspect.signature(func).parameters
+    except (TypeError, ValueError):  # builtins without a signature
+        return False
+    return name in params or any(q.kind is inspect.Parameter.VAR_KEYWORD for q in params.values())
+
+
+def _call(p: dict[str, Any], budget) -> dict[str, Any]:
+    module, name = p["function"].split(":")
+    try:
+        func = getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError) as exc:
+        from ..errors import InputError
+
+        raise InputError(f"cannot import {p['function']!r}: {exc}", value=p["function"], where="function") from None
+    kwargs = dict(p["kwargs"])
+    for name in ("size", "positioners"):  # handed to a function that takes them (a grid axis of the block)
+        if p[name] is not None and name not in kwargs and _accepts(func, name):
+            kwargs[name] = p[name]
+    t0 = time.perf_counter()
+    value = func(*p["args"], **kwargs)
+    out: dict[str, Any] = {"seconds": time.perf_counter() - t0, "size": p["size"], "positioners": p["positioners"]}
+    if isinstance(value, dict):
+        out.update({k: value[k] for k in STANDARD if k in value})
+        if "status" in value:
+            out["status"] = str(value["status"])
+        out["extra"] = {k: v for k, v in value.items() if k not in STANDARD and k != "status"}
+    elif value is not None:
+        out["extra"] = {"result": repr(value)[:500]}
+    return out
