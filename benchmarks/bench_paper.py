@@ -1,10 +1,11 @@
-#!/usr/bin/env python
 """The seed paper's model at scale: N positioners, four routes side by side.
 
-For each model and number of positioners ``N`` (seeded random starts and targets on the
-hex grid, priorities = indices; ``supcoord paper``'s instances) each route runs in a
-fresh subprocess with a timeout (60 s); a route that misses it is not run on larger
-``N`` ("not run"):
+A thin wrapper over the study ``benchmarks/studies/paper.toml`` (``docs/study.md``).  For
+each model and number of positioners ``N`` (seeded random starts and targets on the hex
+grid, priorities = indices; ``supcoord paper``'s instances) each route is one case of the
+study — a ``call`` of :func:`study_case` — run in a fresh process with a time limit (60 s)
+and a 6 GiB memory limit; a route runs its sizes in order and, once one runs out of time
+or memory, not on larger ``N`` ("not run"):
 
 - ``modular`` (literal model only): :func:`supcoord.paper.modular.literal_modular`
   — one supcon per distinct positioner, ``V`` = the product restricted to ``∏ Z_i``
@@ -15,32 +16,33 @@ fresh subprocess with a timeout (60 s); a route that misses it is not run on lar
 - ``libFAUDES``: ``Parallel`` of the plant components and of the specifications,
   ``InvProject`` (= ``allevents(G) || S``), ``SupCon`` (no forcibility in libFAUDES).
 
-Seconds are measured inside the worker (build + supcon + CCC; the interpreter start and
-imports, ~0.5 s, are not included; ``wall s`` is the whole subprocess); peak RSS is
-the worker's ``ru_maxrss`` (CUDD's and libFAUDES's C++ allocations included).  Every
+Seconds are measured inside the case (build + supcon + CCC; the interpreter start and
+imports are not included; ``wall s`` is the whole case process); peak RSS is the case
+process's ``ru_maxrss`` (CUDD's and libFAUDES's C++ allocations included).  Every
 route's supervisor size (state count, exactly, as a residue mod 2^61 − 1 plus its
 log10), BDD node count (symbolic routes) and CCC verdict are compared on each ``N``
-where more than one finishes.
+where more than one finishes.  The results database is ``results/paper.sqlite``; the
+tables ``results/paper.md`` and ``results/paper.csv`` are written from it.
 
 Usage::
 
-    python benchmarks/bench_paper.py            # full run, writes results/paper.md and results/paper.csv
-    python benchmarks/bench_paper.py --quick    # small sizes, 20 s timeout, prints only
+    python benchmarks/bench_paper.py            # run what is missing, write results/paper.md and paper.csv
+    python benchmarks/bench_paper.py --no-run   # only rewrite the tables from the database
+    python benchmarks/bench_paper.py --quick    # small sizes, 20 s limit, to /tmp, prints the tables
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
-import json
+import dataclasses
 import math
 import os
 import platform
 import resource
-import subprocess
+import statistics
 import sys
 import time
-from datetime import datetime, timezone
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LITERAL_SIZES = [1, 2, 3, 10, 30, 100, 300, 500, 1000, 3000, 5000]
@@ -48,7 +50,6 @@ COUPLED_SIZES = [2, 3, 4, 5, 6, 7, 12, 19]
 QUICK = {"literal": [1, 2, 10, 100], "coupled": [2, 3]}
 STEPS = {"literal": 12, "coupled": 8}
 ROUTES = {"literal": ["modular", "monolithic", "explicit", "faudes"], "coupled": ["monolithic", "explicit", "faudes"]}
-MEMORY_LIMIT = 6 * 2**30  # bytes of address space per worker (the machine is shared)
 RESIDUE = 2**61 - 1
 
 
@@ -159,24 +160,16 @@ def worker(route: str, model: str, size: int, steps: int, seed: int) -> dict:
     return worker_faudes(model, size, steps, seed)
 
 
-def _limit_memory() -> None:
-    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
-
-
-def run_worker(route: str, model: str, size: int, steps: int, seed: int, timeout: float) -> dict:
-    """One measurement in a fresh interpreter: ``{"status": "ok"|"timeout"|"error", ...}``."""
-    cmd = [sys.executable, os.path.abspath(__file__), "--worker", route, model, str(size), str(steps), str(seed)]
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limit_memory)
-    except subprocess.TimeoutExpired:
-        return {"status": "timeout"}
-    wall = time.perf_counter() - t0
-    if proc.returncode != 0:
-        tail = (proc.stderr.strip().splitlines() or ["?"])[-1]
-        status = "memory" if "MemoryError" in proc.stderr or "bad_alloc" in proc.stderr else "error"
-        return {"status": status, "error": tail[:200], "wall": wall}
-    return {"status": "ok", "wall": wall, **json.loads(proc.stdout.strip().splitlines()[-1])}
+def study_case(route: str, model: str, positioners: int, steps: int, seed: int = 0) -> dict:
+    """One route on one instance, as a ``call`` case of the study: :func:`worker`'s
+    measurement with the study's names (``verdict``: the CCC's, none for libFAUDES)."""
+    r = worker(route, model, positioners, steps, seed)
+    out = {k: v for k, v in r.items() if k != "peak_rss_mb"}
+    if r.get("ccc") is not None:
+        out["verdict"] = "forcible" if r["ccc"] else "not forcible"
+    if out.get("states") is not None:
+        out["states"] = str(out["states"])
+    return out
 
 
 # -- driver ------------------------------------------------------------------------------------
@@ -242,28 +235,6 @@ def agreement(results: dict) -> str:
     return "MISMATCH: " + "; ".join(problems) if problems else f"yes ({len(ok)})"
 
 
-def sweep(model: str, sizes: list[int], timeout: float, seed: int, log) -> list[dict]:
-    steps = STEPS[model]
-    stopped: dict[str, str] = {}
-    rows = []
-    for size in sizes:
-        results: dict[str, dict | None] = {}
-        for route in ROUTES[model]:
-            if route in stopped:
-                results[route] = None
-                continue
-            r = run_worker(route, model, size, steps, seed, timeout)
-            results[route] = r
-            if r["status"] != "ok":
-                stopped[route] = r["status"]
-            log(f"{model:>8} N={size:<5} {route:>10}: {r['status']:>7} "
-                + (f"{r['seconds']:8.3f} s  wall {r['wall']:6.2f} s  {r.get('bdd_nodes', '-'):>8} nodes  "
-                   f"{r['peak_rss_mb']:7.0f} MB  ccc {r.get('ccc')}" if r["status"] == "ok" else r.get("error", "")))
-        rows.append({"model": model, "positioners": size, "steps": steps, "results": results,
-                     "states": states_cell(results), "agree": agreement(results), "load": load()})
-    return rows
-
-
 def table(model: str, rows: list[dict]) -> list[str]:
     routes = ROUTES[model]
     names = {"modular": "modular", "monolithic": "monolithic", "explicit": "explicit twin", "faudes": "libFAUDES"}
@@ -304,51 +275,85 @@ def write_csv(path: str, rows: list[dict]) -> None:
                             r.get("peak_rss_mb", ""), r.get("ccc", ""), row["load"]])
 
 
+def from_database(db_rows: list[dict], model: str, sizes: list[int]) -> list[dict]:
+    """The rows of :func:`table` (one per size, the routes side by side) from the study's rows."""
+    rows = []
+    for size in sizes:
+        results: dict[str, dict | None] = {}
+        for route in ROUTES[model]:
+            r = next((x for x in db_rows if x["series"] == f"{model} {route}" and x["positioners"] == size), None)
+            if r is None or r["status"] == "skipped":
+                results[route] = None
+                continue
+            extra = r.get("extra") or {}
+            status = {"ok": "ok", "timeout": "timeout", "out-of-memory": "memory"}.get(r["status"], "error")
+            results[route] = {**extra, "status": status, "seconds": r["seconds"], "wall": r["wall_seconds"],
+                              "bdd_nodes": r["bdd_nodes"], "peak_rss_mb": r["peak_rss_mb"],
+                              "states": int(r["states"]) if r.get("states") else None,
+                              "states_log10": r["states_log10"], "error": r["message"], "load": r["load"]}
+            if r["bdd_nodes"] is None:
+                results[route].pop("bdd_nodes")
+        loads = [x["load"] for x in results.values() if x and x.get("load") is not None]
+        rows.append({"model": model, "positioners": size, "steps": STEPS[model], "results": results,
+                     "states": states_cell(results), "agree": agreement(results),
+                     "load": f"{max(loads):.2f}" if loads else ""})
+    return rows
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--worker", nargs=5, metavar=("ROUTE", "MODEL", "N", "STEPS", "SEED"), help=argparse.SUPPRESS)
-    ap.add_argument("--quick", action="store_true", help="small sizes, 20 s timeout, print only")
-    ap.add_argument("--timeout", type=float, default=None, help="seconds per run (default 60, quick 20)")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--models", nargs="+", choices=["literal", "coupled"], default=["literal", "coupled"])
+    ap.add_argument("--study", default=os.path.join(HERE, "studies", "paper.toml"))
+    ap.add_argument("--db", help="results database (default: the study's)")
+    ap.add_argument("--workers", type=int, help="Dask worker processes (default: the study's, 2)")
+    ap.add_argument("--no-run", action="store_true", help="only write the tables from the database")
+    ap.add_argument("--any-version", action="store_true", help="cases run by any code version count as done")
+    ap.add_argument("--quick", action="store_true", help="small sizes, 20 s limit, database in /tmp, print only")
     ap.add_argument("--out", default=None, help="markdown results file (default results/paper.md; quick: none)")
     args = ap.parse_args(argv)
-    if args.worker:
-        route, model, size, steps, seed = args.worker
-        print(json.dumps(worker(route, model, int(size), int(steps), int(seed))))
-        return 0
-    timeout = args.timeout or (20.0 if args.quick else 60.0)
+    from supcoord.study import load_study, results_rows, run_study
+
+    study = load_study(args.study)
+    db = args.db
+    sizes = {m: (QUICK[m] if args.quick else LITERAL_SIZES if m == "literal" else COUPLED_SIZES) for m in ROUTES}
+    if args.quick:
+        study.cases = [dataclasses.replace(c, time_limit=20.0) for c in study.cases
+                       if c.params["positioners"] in sizes[c.params["kwargs"]["model"]]]
+        db = db or "/tmp/supcoord-paper.sqlite"
     out = args.out or (None if args.quick else os.path.join(HERE, "results", "paper.md"))
-    log = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
-    started = datetime.now(timezone.utc)
-    load_start = load()
-    m = machine()
-    rows = []
-    for model in args.models:
-        rows += sweep(model, QUICK[model] if args.quick else (LITERAL_SIZES if model == "literal" else COUPLED_SIZES),
-                      timeout, args.seed, log)
-    load_end = load()
+    db = str(study.database_path(db))
+    log = lambda s: print(s, file=sys.stderr, flush=True)
     command = "python benchmarks/bench_paper.py" + " ".join([""] + (argv if argv is not None else sys.argv[1:]))
+    if not args.no_run:
+        run_study(study, db, workers=args.workers, progress=log, any_version=args.any_version, command=command)
+    db_rows = results_rows(db, study=study)
+    ran = [r for r in db_rows if r.get("cpu")]
+    m = machine()
+    loads = [r["load"] for r in ran if r.get("load") is not None]
+    limits = sorted({f"{r['time_limit']:g} s" for r in ran})
     lines = [
         "# The seed paper's model at scale: modular vs monolithic (symbolic) vs explicit twin vs libFAUDES",
         "",
-        f"- command: `{command.strip()}`",
-        f"- date: {started:%Y-%m-%d %H:%M} UTC",
-        f"- machine: `nproc` = {m['nproc']} ({m['cpu']}), RAM {m['ram']}, {m['platform']}",
-        f"- load (`uptime`'s 1/5/15-minute averages): {load_start} at the start, {load_end} at the end (the "
-        "machine is shared with other agents: seconds are noisy; compare routes within a row)",
+        f"- command: `{command.strip()}` (the study `benchmarks/studies/paper.toml`; database `results/paper.sqlite`)",
+        (f"- cases started between {min(r['started'] for r in ran)} and {max(r['started'] for r in ran)} UTC; "
+        f"code {', '.join(sorted({r['version'] for r in ran}))}"),
+        f"- machine: {', '.join(sorted({r['cpu'] for r in ran}))}, RAM {m['ram']}, {m['platform']}",
+        (f"- load (1 min) at the start of a case: median {statistics.median(loads):.1f}, max {max(loads):.1f} "
+        "(the machine is shared with other agents: seconds are noisy; compare routes within a row)"),
         f"- versions: Python {m['python']}, dd {m['dd']} (CUDD), {m['faudes']}",
-        f"- instances: `supcoord paper`'s (seed {args.seed}; literal n = {STEPS['literal']}, coupled n = "
-        f"{STEPS['coupled']}); timeout {timeout:.0f} s per run, each run in a fresh subprocess with 6 GiB of "
-        "address space; after a timeout a route is not run on larger N",
-        "- seconds: inside the worker (build + supcon + CCC, imports excluded); wall s: the whole subprocess "
-        "(interpreter start and imports included). Peak RSS: the worker's `ru_maxrss`.",
-        "- routes agree: supervisor state counts equal (exactly, mod 2^61 − 1), BDD nodes equal between the two "
-        "symbolic routes, CCC verdicts equal (libFAUDES has no forcibility); the count of routes compared in parentheses",
+        (f"- instances: `supcoord paper`'s (seed 0; literal n = {STEPS['literal']}, coupled n = {STEPS['coupled']}); "
+        "each run a case of the study in a fresh process with a time limit of "
+        f"{', '.join(limits)} and 6 GiB of address space, on 2 Dask "
+        "workers; after a time-out a route is not run on larger N"),
+        ("- seconds: inside the case (build + supcon + CCC, imports excluded); wall s: the whole case process "
+        "(interpreter start and imports included). Peak RSS: the case process's `ru_maxrss`."),
+        ("- routes agree: supervisor state counts equal (exactly, mod 2^61 − 1), BDD nodes equal between the two "
+        "symbolic routes, CCC verdicts equal (libFAUDES has no forcibility); the count of routes compared in parentheses"),
         "",
     ]
-    for model in args.models:
-        mr = [r for r in rows if r["model"] == model]
+    rows = []
+    for model in ROUTES:
+        mr = from_database(db_rows, model, sizes[model])
+        rows += mr
         lines += [f"## {model} model, n = {STEPS[model]}", ""] + table(model, mr) + [""]
     text = "\n".join(lines)
     print(text)
