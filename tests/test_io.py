@@ -175,7 +175,7 @@ def test_errors_name_file_line_and_token(tmp_path):
         ('<Generator> <Alphabet> "a </Alphabet> </Generator>', "unterminated"),
         ("<Generator> <Alphabet> a </Alphabet> </Generator>", "missing <TransRel>"),
         ("<Graph> </Graph>", "expected <Generator>"),
-        ("<Generator> <States> <Consecutive> 5 2 </Consecutive> </States> <T> </T> </Generator>", "range"),
+        ("<Generator> <States> <Consecutive> 5 x </Consecutive> </States> <T> </T> </Generator>", "range"),
     ]:
         with pytest.raises(FormatError, match=needle):
             parse_gen(text)
@@ -207,9 +207,19 @@ def test_gen_ours_to_faudes(tmp_path_factory, g, names_in_transitions):
     assert {s.EventName(e) for e in s.Alphabet()} == set(g.events)
     assert {s.EventName(e) for e in s.ControllableEvents()} == set(g.controllable)
     assert (s.InitStatesSize(), s.MarkedStatesSize()) == (1 if g.init is not None else 0, len(g.marked))
-    # and back through libFAUDES's writer
+    # and back through libFAUDES's writer: read as libFAUDES reads its own file (it writes a
+    # state named 'true' bare and then reads that token as the attribute of the state before)
     s.Write(str(path))
-    assert _same_numbered(g, read_gen(path))
+    try:
+        back = faudes.System(str(path))
+    except Exception:  # libFAUDES refuses what it wrote: so does supcoord
+        with pytest.raises(FormatError):
+            read_gen(path)
+        return
+    h = read_gen(path)
+    assert (h.n_states, h.n_transitions, len(h.marked)) == (back.Size(), back.TransRelSize(), back.MarkedStatesSize())
+    if back.Size() == g.n_states:
+        assert _same_numbered(g, h)
 
 
 @ORACLE

@@ -1,339 +1,252 @@
-"""The ``<Generator>`` grammar of libFAUDES ``.gen`` files over a token cursor.
+"""The ``<Generator>`` grammar of libFAUDES ``.gen`` files, read as libFAUDES's
+``vGenerator::DoRead`` reads it (:mod:`.gen_file` states the accepted forms).
 
-The sections (``<Alphabet>``, ``<States>``, ``<TransRel>``, ``<InitStates>``,
-``<MarkedStates>``, their short forms and the XML flavour) are collected in
-libFAUDES's state index space, then mapped to a
-:class:`~supcoord.des.generator.Generator`; :mod:`.gen_file` describes the accepted
-forms and the mapping.
+- The first ``<Generator>`` at any depth is read (``SeekBegin``): what precedes it
+  (a wrapper such as ``<cGenerator>`` or ``<aGenerator>``, stray text, comments) and
+  what follows its end are skipped; the ``<Controllable>`` section of a
+  ``<cGenerator>`` wrapper marks its events controllable.
+- The native layout: an optional name, then in this order ``<Alphabet>``,
+  ``<States>``, ``<TransRel>`` (required), ``<InitStates>``, ``<MarkedStates>``;
+  anything after these inside ``<Generator>`` is skipped.  When ``<TransRel>`` is not
+  where it belongs, the XML layout is read (``<Alphabet>``, ``<StateSet>``,
+  ``<TransitionRelation>`` in any order) unless the name was a string token;
+  libFAUDES reads such a file as an empty generator (or refuses it when it has no
+  ``<StateSet>``), supcoord refuses it, naming where the native layout broke.
+- An element (event or state) is followed by its attribute: for events the
+  controllability flags (``+C+``, ``0x…`` with bit 1, ``<Controllable/>``), for
+  others anything libFAUDES's ``AttrType::Skip`` skips.
+- ``<TransRel>`` introduces states it uses but ``<States>`` lacks: integer ones until
+  it introduces a named one and named ones until it introduces an integer one (the
+  next index after the largest); events only when there was no alphabet.
 
 References
 ----------
 - T. Moor, K. Schmidt et al., libFAUDES reference, "CoreFaudes - Generators"
-  (``cfl_generator.cpp``), https://fgdes.tf.fau.de/faudes
+  (``cfl_generator.cpp``, ``cfl_nameset.cpp``, ``cfl_attributes.cpp``),
+  https://fgdes.tf.fau.de/faudes
 """
 
 from __future__ import annotations
 
-from typing import Iterable
+from ...errors import FormatError
+from ..flat import FlatGenerator
+from .gen_build import MAX_STATES, GenBuilder
+from .gen_bulk import Fallback, bulk_state_set, bulk_states, bulk_transrel
+from .gen_tokens import Token, TokenReader
+from .gen_xml import controllable_section, find, int_attr, read_alphabet, read_xml
 
-from ...errors import NondeterminismError
-from ..generator import Event, Generator
-from .gen_tokens import Token, TokenReader, valid_symbol
+__all__ = ["MAX_STATES", "parse_text"]
 
-__all__ = ["MAX_STATES", "parse_tokens"]
-
-MAX_STATES = 10_000_000  # an explicit generator beyond this is not meant to be read into Python
-
-
-class _Builder:
-    """The sections of one ``<Generator>``, collected in libFAUDES's index space."""
-
-    def __init__(self, r: TokenReader):
-        self.r = r
-        self.events: dict[str, bool] = {}
-        self.order: list[int] = []  # libFAUDES state indices in order of appearance
-        self.names: dict[int, str | None] = {}
-        self.by_name: dict[str, int] = {}
-        self.trans: list[tuple[int, str, int, int]] = []
-        self.init: list[int] = []
-        self.marked: set[int] = set()
-        self.seen: set[str] = set()
-
-    # -- helpers -------------------------------------------------------------
-
-    def once(self, kind: str, t: Token) -> None:
-        if kind in self.seen:
-            raise self.r.error(t.line, f"section <{t.text}> appears twice", t.text)
-        self.seen.add(kind)
-
-    def add_state(self, idx: int, name: str | None, t: Token) -> None:
-        if idx < 1:
-            raise self.r.error(t.line, f"state index {idx} is not positive", idx)
-        if idx in self.names or (name is not None and name in self.by_name):
-            raise self.r.error(t.line, f"state {name or idx} appears twice in the state set", name or idx)
-        if len(self.order) >= MAX_STATES:
-            raise self.r.error(t.line, f"more than {MAX_STATES} states", MAX_STATES)
-        if name is not None:
-            if not valid_symbol(name):
-                raise self.r.error(t.line, f"invalid state name {name!r}", name)
-            self.by_name[name] = idx
-        self.names[idx] = name
-        self.order.append(idx)
-
-    def add_event(self, name: str, controllable: bool, t: Token) -> None:
-        if not valid_symbol(name):
-            raise self.r.error(t.line, f"invalid event name {name!r}", name)
-        self.events[name] = controllable
-
-    def ref(self, t: Token, implicit: bool = False) -> int:
-        """The index a state token refers to (created when ``implicit``)."""
-        if t.kind != "string":
-            raise self.r.error(t.line, f"expected a state, found {t.show()}", t.text)
-        idx = t.index if t.index is not None else self.by_name.get(t.text)
-        if idx is not None and idx in self.names:
-            return idx
-        if implicit:
-            if idx is None:
-                idx = max(self.names, default=0) + 1
-                self.add_state(idx, t.text, t)
-            else:
-                self.add_state(idx, None, t)
-            return idx
-        raise self.r.error(t.line, f"state {t.text!r} is not in the state set", t.text)
-
-    def consecutive(self, t: Token) -> range:
-        r = self.r
-        if t.attrs:
-            a, b = t.attrs.get("from", ""), t.attrs.get("to", "")
-            line = t.line
-        else:
-            ta, tb = r.get(), r.get()
-            a, b, line = ta.text if ta.index is not None else "", tb.text if tb.index is not None else "", ta.line
-        if not (a.isdigit() and b.isdigit()) or not 1 <= int(a) <= int(b):
-            raise r.error(line, f"invalid range of consecutive states {a!r}..{b!r}", (a, b))
-        if int(b) - int(a) >= MAX_STATES:
-            raise r.error(line, f"range {a}..{b} has more than {MAX_STATES} states", (a, b))
-        r.end("Consecutive")
-        return range(int(a), int(b) + 1)
-
-    # -- sections ------------------------------------------------------------
-
-    def alphabet(self) -> None:
-        r = self.r
-        label = r.begin("Alphabet", "A").text
-        self.once("alphabet", r.tokens[r.pos - 1])
-        while not r.is_end(label):
-            t = r.get()
-            if t.kind == "string":
-                flags = []
-                while True:
-                    u = r.peek()
-                    if u is not None and (u.kind == "option" or u.is_hex):
-                        flags.append(r.get())
-                    elif u is not None and u.kind == "begin" and u.text != "Consecutive":
-                        r.skip_section()
-                    else:
-                        break
-                self.add_event(t.text, _controllable_from(flags), t)
-            elif t.kind == "begin" and t.text == "Event":
-                controllable = False
-                while not r.is_end("Event"):
-                    u = r.peek()
-                    if u is None or u.kind != "begin":
-                        raise r.error(t.line if u is None else u.line, "malformed <Event> element", t.attrs.get("name"))
-                    if u.text == "Controllable":
-                        controllable = u.attrs.get("value", "1").lower() not in ("0", "false")
-                    r.skip_section()
-                r.end("Event")
-                self.add_event(t.attrs.get("name", ""), controllable, t)
-            else:
-                raise r.error(t.line, f"unexpected {t.show()} in <{label}>", t.text)
-        r.end(label)
-
-    def states(self) -> None:
-        r = self.r
-        t0 = r.begin("States", "S")
-        label = t0.text
-        self.once("states", t0)
-        while not r.is_end(label):
-            t = r.get()
-            if t.kind == "string" and t.index is not None:
-                self.add_state(t.index, None, t)
-            elif t.kind == "string":
-                name, _, suffix = t.text.partition("#")
-                if suffix and not suffix.isdigit():
-                    raise r.error(t.line, f"invalid index suffix in state {t.text!r}", t.text)
-                self.add_state(int(suffix) if suffix else len(self.order) + 1, name, t)
-            elif t.kind == "begin" and t.text == "Consecutive":
-                for idx in self.consecutive(t):
-                    self.add_state(idx, None, t)
-            else:
-                raise r.error(t.line, f"unexpected {t.show()} in <{label}>", t.text)
-            r.skip_attributes()
-        r.end(label)
-
-    def xml_states(self) -> None:
-        r = self.r
-        t0 = r.begin("StateSet")
-        self.once("states", t0)
-        while not r.is_end("StateSet"):
-            t = r.get()
-            if t.kind == "begin" and t.text == "Consecutive":
-                for idx in self.consecutive(t):
-                    self.add_state(idx, None, t)
-            elif t.kind == "begin" and t.text == "State":
-                ident = t.attrs.get("id", "")
-                if not ident.isdigit():
-                    raise r.error(t.line, f"<State> needs a positive integer id, got {ident!r}", ident)
-                idx = int(ident)
-                self.add_state(idx, t.attrs.get("name"), t)
-                while not r.is_end("State"):
-                    u = r.peek()
-                    if u is None or u.kind != "begin":
-                        raise r.error(t.line if u is None else u.line, f"malformed <State id={ident}>", ident)
-                    on = u.attrs.get("value", "1").lower() not in ("0", "false")
-                    if u.text == "Initial" and on:
-                        self.init.append(idx)
-                    elif u.text == "Marked" and on:
-                        self.marked.add(idx)
-                    r.skip_section()
-                r.end("State")
-            elif t.kind == "begin":
-                r.pos -= 1
-                r.skip_section()
-            else:
-                raise r.error(t.line, f"unexpected {t.show()} in <StateSet>", t.text)
-        r.end("StateSet")
-
-    def state_set(self) -> list[int]:
-        r = self.r
-        t0 = r.begin("InitStates", "I", "MarkedStates", "M")
-        label = t0.text
-        self.once(label[0], t0)
-        out: list[int] = []
-        while not r.is_end(label):
-            t = r.get()
-            if t.kind == "string":
-                if t.index is None and "#" in t.text:
-                    raise r.error(t.line, f"index suffix not allowed in <{label}>: {t.text!r}", t.text)
-                out.append(self.ref(t))
-            elif t.kind == "begin" and t.text == "Consecutive":
-                for idx in self.consecutive(t):
-                    if idx not in self.names:
-                        raise r.error(t.line, f"state {idx} is not in the state set", idx)
-                    out.append(idx)
-            elif t.kind == "begin":
-                r.pos -= 1
-                r.skip_section()
-                continue
-            else:
-                raise r.error(t.line, f"unexpected {t.show()} in <{label}>", t.text)
-            r.skip_attributes()
-        r.end(label)
-        return out
-
-    def transrel(self) -> None:
-        r = self.r
-        t0 = r.begin("TransRel", "T")
-        label = t0.text
-        self.once("trans", t0)
-        new_states, new_events = not self.order, not self.events
-        while not r.is_end(label):
-            t1 = r.get()
-            te, t2 = r.get(), r.get()
-            if any(t.kind != "string" for t in (t1, te, t2)):
-                bad = next(t for t in (t1, te, t2) if t.kind != "string")
-                raise r.error(bad.line, f"incomplete transition before {bad.show()} in <{label}>", bad.text)
-            x1 = self.ref(t1, new_states)
-            if te.text not in self.events:
-                if not new_events:
-                    raise r.error(te.line, f"event {te.text!r} is not in the alphabet", te.text)
-                self.add_event(te.text, False, te)
-            x2 = self.ref(t2, new_states)
-            self.trans.append((x1, te.text, x2, t1.line))
-            r.skip_attributes()
-        r.end(label)
-
-    def xml_transrel(self) -> None:
-        r = self.r
-        t0 = r.begin("TransitionRelation")
-        self.once("trans", t0)
-        while not r.is_end("TransitionRelation"):
-            t = r.get()
-            if t.kind != "begin":
-                raise r.error(t.line, f"unexpected {t.show()} in <TransitionRelation>", t.text)
-            r.pos -= 1
-            r.skip_section()
-            if t.text != "Transition":
-                continue
-            ends = [self.ref(Token("string", t.attrs.get(k, ""), t.line)) for k in ("x1", "x2")]
-            ev = t.attrs.get("event", "")
-            if ev not in self.events:
-                raise r.error(t.line, f"event {ev!r} is not in the alphabet", ev)
-            self.trans.append((ends[0], ev, ends[1], t.line))
-        r.end("TransitionRelation")
-
-    # -- result --------------------------------------------------------------
-
-    def build(self, name: str) -> Generator:
-        where = self.r.where
-        events = [Event(e, c) for e, c in self.events.items()]
-        inits = list(dict.fromkeys(self.init))
-        if len(inits) > 1:
-            shown = [self.names[q] or q for q in inits[:5]]
-            raise NondeterminismError(
-                f"{len(inits)} initial states {shown}: supcoord generators are deterministic (one initial state)",
-                value=shown, where=where,
-            )
-        if not inits:
-            return Generator(0, events, [], None, (), name)
-        number = {idx: k for k, idx in enumerate(self.order)}
-        seen: dict[tuple[int, str], tuple[int, int]] = {}
-        for a, e, b, line in self.trans:
-            old = seen.setdefault((a, e), (b, line))
-            if old[0] != b:
-                label = lambda q: self.names[q] or str(q)  # noqa: E731
-                raise NondeterminismError(
-                    f"line {line}: state {label(a)} has two transitions on {e!r}, to {label(old[0])} "
-                    f"(line {old[1]}) and to {label(b)}",
-                    value=(label(a), e, (label(old[0]), label(b))), where=where,
-                )
-        # unnamed states keep their libFAUDES index as a name when some state is named
-        # or the indices are not 1..n in order (a file written after deleting states)
-        named = any(v is not None for v in self.names.values()) or self.order != list(range(1, len(self.order) + 1))
-        state_names = [self.names[q] or str(q) for q in self.order] if named else None
-        return Generator(
-            len(self.order), events, [(number[a], e, number[b]) for (a, e), (b, _) in seen.items()],
-            number[inits[0]], [number[q] for q in self.marked], name, state_names,
-        )
+_ORDER = "the native sections come in the order <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates>"
 
 
-def parse_tokens(r: TokenReader) -> Generator:
-    """The ``<Generator>`` grammar over a token cursor."""
-    if r.peek() is None:
-        raise r.error(1, "empty file: expected <Generator>")
-    btag = r.begin("Generator")
+def parse_text(text: str, where: str = "<string>", *, raw: bytes | None = None, fast: bool = True) -> FlatGenerator:
+    """The generator of the first ``<Generator>`` section of libFAUDES token text
+    (``raw``: the same text as Latin-1 bytes, when at hand)."""
+    try:
+        return _parse(text, where, raw, fast)
+    except Fallback:
+        return _parse(text, where, raw, False)
+
+
+def _parse(text: str, where: str, raw: bytes | None, fast: bool) -> FlatGenerator:
+    r = TokenReader(text, where, raw)
+    if not text or text.isspace():
+        raise r.error(0, "empty file: expected <Generator>")
+    btag = r.seek_begin("Generator")
+    parent = r.stack[-2] if len(r.stack) > 1 else None
     name = btag.attrs.get("name", "Generator")
     t = r.peek()
-    if t is not None and t.kind == "string":
-        name = r.get().text
-    b = _Builder(r)
-    sections = {
-        "Alphabet": b.alphabet, "A": b.alphabet, "States": b.states, "S": b.states, "StateSet": b.xml_states,
-        "TransRel": b.transrel, "T": b.transrel, "TransitionRelation": b.xml_transrel,
-    }
-    while not r.is_end("Generator"):
+    native_name = t is not None and t.is_string  # libFAUDES then reads no XML
+    if native_name:
+        name = r.get().name
+    start = r.mark()
+    b = GenBuilder(r)
+    broke = _native(r, b, fast)
+    if broke is not None:
+        r.reset(start)
+        b = GenBuilder(r)
+        if native_name or not find(r, "StateSet", start):
+            if broke.kind == "end" and broke.text == "Generator":
+                raise r.error(broke, "missing <TransRel> section", "TransRel")
+            raise r.error(broke, f"expected <TransRel>, found {broke.show()} ({_ORDER})", broke.text)
+        r.reset(start)
+        name = btag.attrs.get("name", "generator")
+        read_xml(r, b, start)
+    r.end("Generator")
+    if parent == "cGenerator":
+        try:
+            controllable_section(r, b)
+        except FormatError:  # libFAUDES reads nothing after </Generator>: a bad tail is no error
+            pass
+    return b.build(name, lambda k: _locate(r, b, k))
+
+
+# -- native layout ----------------------------------------------------------------------
+
+
+def _native(r: TokenReader, b: GenBuilder, fast: bool) -> Token | None:
+    """Read the native sections; the token where ``<TransRel>`` was expected if absent."""
+    if r.is_begin("Alphabet", "A"):
+        read_alphabet(r, b, r.peek().text)
+    if r.is_begin("States", "S"):
+        label = r.peek().text
+        if not (fast and bulk_states(r, b, label)):
+            _states(r, b, label)
+    t = r.peek()
+    if t is None:
+        raise r.error(len(r.text), "missing </Generator>", "Generator")
+    if not r.is_begin("TransRel", "T"):
+        return t
+    if not (fast and bulk_transrel(r, b, t.text)):
+        _transrel(r, b, t.text)
+    for labels, target in ((("InitStates", "I"), b.init), (("MarkedStates", "M"), b.marked)):
+        if r.is_begin(*labels):
+            label = r.peek().text
+            found = bulk_state_set(r, b, label) if fast else None
+            target.extend(found if found is not None else _state_set(r, b, label))
+    return None
+
+
+def _states(r: TokenReader, b: GenBuilder, label: str) -> None:
+    """libFAUDES's ``ReadStates``: indices, names (index = position or ``name#index``), ranges."""
+    r.begin(label)
+    symnext, implicit, explicit = 1, False, False
+    while not r.is_end(label):
         t = r.peek()
         if t is None:
-            raise r.error(r.tokens[-1].line, "missing </Generator>")
-        if t.kind != "begin":
-            raise r.error(t.line, f"unexpected {t.show()} in <Generator>", t.text)
-        if t.text in sections:
-            sections[t.text]()
-        elif t.text in ("InitStates", "I"):
-            b.init.extend(b.state_set())
-        elif t.text in ("MarkedStates", "M"):
-            b.marked.update(b.state_set())
+            raise r.error(len(r.text), f"missing </{label}>", label)
+        if t.index is not None:
+            r.get()
+            b.add_state(t.index, None, t.pos)
+            r.skip_attributes()
+        elif t.is_string:
+            r.get()
+            name, sep, suffix = t.name.partition("#")
+            idx = symnext
+            if sep:
+                explicit = True
+                if suffix:
+                    if not (suffix.isdigit() and suffix.isascii()):
+                        raise r.error(t, f"invalid index suffix in state {t.name!r}", t.name)
+                    idx = int(suffix)
+                else:
+                    name = t.name
+            else:
+                implicit = True
+            b.add_state(idx, name, t.pos)
+            r.skip_attributes()
+        elif t.kind == "begin" and t.text == "Consecutive":
+            r.get()
+            t1, t2 = r.get(), r.get()
+            if t1.index is None or t2.index is None:
+                raise r.error(t1, f"invalid range of consecutive states {t1.show()}..{t2.show()}", (t1.text, t2.text))
+            b.add_range(t1.index, t2.index, t1.pos)
+            symnext += max(0, t2.index - t1.index + 1) - 1
+            r.end("Consecutive")
         else:
-            r.skip_section()
-    r.end("Generator")
-    extra = r.peek()
-    if extra is not None:
-        raise r.error(extra.line, f"unexpected {extra.show()} after </Generator>", extra.text)
-    if "trans" not in b.seen:
-        raise r.error(btag.line, "missing <TransRel> section", "TransRel")
-    return b.build(name)
+            raise r.error(t, f"unexpected {t.show()} in <{label}>", t.text)
+        symnext += 1
+    r.get()
+    if implicit and explicit:
+        raise r.error(r.pos, "states with and without an explicit '#index' suffix", label)
 
 
-def _controllable_from(flags: Iterable[Token], default: bool = False) -> bool:
-    """Fold CFlags attributes (options, hex flags, XML tags) into the controllable bit."""
-    c = default
-    for t in flags:
-        if t.kind == "option":
-            if "C" in t.text:
-                c = True
-            if "c" in t.text:
-                c = False
-        elif t.is_hex:
-            c = bool((t.index or 0) & 0x01)
-    return c
+def _state_set(r: TokenReader, b: GenBuilder, label: str) -> list[int]:
+    """libFAUDES's ``ReadStateSet``: states of the state set by index, name, range or element."""
+    r.begin(label)
+    out: list[int] = []
+    while not r.is_end(label):
+        t = r.peek()
+        if t is None:
+            raise r.error(len(r.text), f"missing </{label}>", label)
+        if t.index is not None or t.is_string:
+            r.get()
+            if t.index is None and "#" in t.name:
+                raise r.error(t, f"index suffix not allowed in <{label}>: {t.name!r}", t.name)
+            idx = t.index if t.index is not None else b.by_name.get(t.name)
+            if idx is None or idx not in b.known:
+                raise r.error(t, f"state {t.name!r} is not in the state set", t.name)
+            out.append(idx)
+            r.skip_attributes()
+        elif t.kind == "begin" and t.text == "State":
+            r.get()
+            idx = int_attr(t, "id") or b.by_name.get(t.attrs.get("name", ""))
+            if idx is None or idx not in b.known:
+                raise r.error(t, f"cannot find the state of {t.show()} {t.attrs}", t.attrs)
+            out.append(idx)
+            r.end("State")
+        elif t.kind == "begin" and t.text == "Consecutive":
+            r.get()
+            if r.is_end("Consecutive"):
+                first, last = int_attr(t, "from") or 0, int_attr(t, "to") or 0
+            else:
+                t1, t2 = r.get(), r.get()
+                first, last = t1.index or 0, t2.index or 0
+            if first < 1 or last < first:
+                raise r.error(t, f"invalid range of consecutive states {first}..{last}", (first, last))
+            if last - first >= MAX_STATES or any(i not in b.known for i in range(first, last + 1)):
+                raise r.error(t, f"range {first}..{last} is not in the state set", (first, last))
+            out.extend(range(first, last + 1))
+            r.end("Consecutive")
+        else:
+            raise r.error(t, f"unexpected {t.show()} in <{label}>", t.text)
+    r.get()
+    return out
+
+
+def _transrel(r: TokenReader, b: GenBuilder, label: str) -> None:
+    """libFAUDES's ``ReadTransRel``: triples ``x1 event x2``, each followed by its attribute."""
+    r.begin(label)
+    b.trans_section = (r.pos, -1)
+    isx, isn, ien = True, True, not b.events
+
+    def state(t: Token) -> int | None:
+        nonlocal isx, isn
+        if t.index is not None:
+            if t.index not in b.known and isx:
+                b.add_state(t.index, None, t.pos)
+                isn = False
+            return t.index
+        if t.is_string:
+            idx = b.by_name.get(t.name)
+            if idx is None and isn:
+                idx = b.max_index + 1
+                b.add_state(idx, t.name, t.pos)
+                isx = False
+            return idx
+        raise r.error(t, f"incomplete transition before {t.show()} in <{label}>", t.text)
+
+    while not r.is_end(label):
+        t1 = r.get()
+        x1 = state(t1)
+        te = r.get()
+        if not te.is_string:
+            raise r.error(te, f"incomplete transition before {te.show()} in <{label}>", te.text)
+        if te.name not in b.event_pos and ien:
+            b.add_event(te.name, False, te.pos)
+        t2 = r.get()
+        x2 = state(t2)
+        r.skip_attributes()
+        for t, x in ((t1, x1), (t2, x2)):
+            if x is None or x not in b.known:
+                raise r.error(t, f"state {t.name!r} is not in the state set", t.name)
+        if te.name not in b.event_pos:
+            raise r.error(te, f"event {te.name!r} is not in the alphabet", te.name)
+        b.x1.append(x1)
+        b.ev.append(b.event_pos[te.name])
+        b.x2.append(x2)
+    r.get()
+
+
+def _locate(r: TokenReader, b: GenBuilder, k: int) -> int:
+    """The line of the ``k``-th transition of ``<TransRel>`` (for error messages)."""
+    if b.trans_section is None:
+        return 0
+    s = TokenReader(r.text, r.where)
+    s.pos = b.trans_section[0]
+    for _ in range(k):
+        s.get(), s.get(), s.get()
+        s.skip_attributes()
+    t = s.peek()
+    return s.line_at(t.pos if t is not None else s.pos)

@@ -1,18 +1,27 @@
-"""libFAUDES token text: the tokens of a ``.gen`` file and a cursor over them.
+"""libFAUDES token text: the tokens of a ``.gen`` file and a cursor that reads them as
+libFAUDES's ``TokenReader`` does.
 
 A token is a begin tag ``<Label a="v">`` (XML attributes allowed; ``<Label/>`` is a
 begin and an end), an end tag ``</Label>``, a string (``"quoted"``, ``'quoted'`` or
-bare; a bare decimal or ``0x`` hexadecimal string is an index) or an option ``+…+``.
-``%`` starts a comment running to the end of the line (between tokens only);
-``&lt; &gt; &amp; &quot; &apos;`` are decoded in names; ``<?xml…?>``,
-``<!DOCTYPE…>`` and ``<!-- … -->`` are skipped and ``<![CDATA[…]]>`` is a quoted
-string.  Binary (base64) tokens are not supported.  Errors raise
-:class:`~supcoord.errors.FormatError` naming the line.
+bare) or an option ``+…+``.  ``%`` starts a comment running to the end of the line
+(between tokens only); ``&lt; &gt; &amp; &quot; &apos;`` are decoded in names;
+``<?xml…?>``, ``<!DOCTYPE…>`` and ``<!-- … -->`` are skipped and
+``<![CDATA[…]]>`` is a quoted string.  Binary (base64) tokens are not supported.
+
+A bare string also has libFAUDES's numeric reading (``Token::InterpretNumber``, as
+the libFAUDES 2.34 binaries behave): decimal digits (also ``1.5``, read as 1) are an
+*integer*, ``0x…`` a hexadecimal *integer16*, ``true``/``false`` a *boolean* (1/0),
+a negative number a *float*; everything else, and every quoted string, is a
+*string*.  The readers use these kinds as libFAUDES does: an integer where a state is
+expected is a state index, and after an element the tokens that are neither strings
+nor integers are its attribute (``AttrType::Skip``: ``0x01``, ``+C+``, ``true``, a
+section ``<Tag>…</Tag>``).  Errors raise :class:`~supcoord.errors.FormatError` naming
+the line; lines are counted only when an error needs one.
 
 References
 ----------
 - T. Moor, K. Schmidt et al., libFAUDES reference, "Token IO" (``cfl_token.cpp``,
-  ``cfl_tokenreader.cpp``, ``cfl_symboltable.cpp``), https://fgdes.tf.fau.de/faudes
+  ``cfl_tokenreader.cpp``, ``cfl_types.cpp``), https://fgdes.tf.fau.de/faudes
 """
 
 from __future__ import annotations
@@ -21,219 +30,329 @@ import re
 from dataclasses import dataclass, field
 
 from ...errors import FormatError
+from .gen_symbols import IDX_MAX, bare_kind, valid_symbol  # noqa: F401  (importable from here too)
 
-__all__ = ["Token", "TokenReader", "tokenize", "valid_symbol"]
+__all__ = ["Token", "TokenReader", "tokenize", "valid_symbol", "bare_kind"]
 
 _ENTITIES = {"&amp;": "&", "&quot;": '"', "&apos;": "'", "&lt;": "<", "&gt;": ">"}
 _ENTITY_RE = re.compile(r"&[^;\s&]*;")
 _CTRL_RE = re.compile(r"[\x00-\x1f\x7f]+")
-
-
+_SPACE_RE = re.compile(r"(?:[\x00-\x20\x7f]+|%[^\n\r]*[\n\r]?)*")
+_BARE_RE = re.compile(r"[^\x00-\x20\x7f<>]+")
+_DQ_RE = re.compile(r'"([^"<>]*)"')
+_SQ_RE = re.compile(r"'([^'<>]*)'")
+_OPT_RE = re.compile(r"\+([^+<>]*)\+")
+_ATTR_RE = re.compile(r"""[\x00-\x20]*([^\x00-\x20=/>]+)[\x00-\x20]*=[\x00-\x20]*("[^"<>]*"|'[^'<>]*'|[^\x00-\x20"'<>/]+)""")
+_TAG_RE = re.compile(r"[A-Za-z_:][^\x00-\x20/>]*")
 @dataclass
 class Token:
     """One libFAUDES token: ``begin``/``end`` markup, ``string`` (quoted or bare) or ``option``."""
 
     kind: str
     text: str
-    line: int
+    pos: int
     quoted: bool = False
     attrs: dict[str, str] = field(default_factory=dict)
+    _number: tuple[str, int | None] | None = field(default=None, repr=False, compare=False)
+
+    def _kind(self) -> tuple[str, int | None]:
+        if self._number is None:
+            self._number = bare_kind(self.text) if self.kind == "string" and not self.quoted else (self.kind, None)
+        return self._number
+
+    @property
+    def ftype(self) -> str:
+        """libFAUDES's ``Token::Type()``: begin, end, option, string, integer, integer16, boolean, float."""
+        return self._kind()[0]
+
+    @property
+    def is_string(self) -> bool:
+        """libFAUDES's ``IsString()``: every string and option token."""
+        return self.kind in ("string", "option")
 
     @property
     def index(self) -> int | None:
-        """The integer value of a bare decimal or hexadecimal token, else ``None``."""
-        if self.kind != "string" or self.quoted:
-            return None
-        if self.text.isdigit() and self.text.isascii():
-            return int(self.text)
-        if re.fullmatch(r"0x[0-9a-fA-F]+", self.text):
-            return int(self.text, 16)
-        return None
+        """The integer of a bare token libFAUDES reads as one (``IsInteger()``), else ``None``."""
+        kind, value = self._kind()
+        return value if kind in ("integer", "integer16", "boolean") else None
+
+    @property
+    def name(self) -> str:
+        """The string value (an option's text without its ``+`` signs)."""
+        return self.text
 
     @property
     def is_hex(self) -> bool:
-        return self.kind == "string" and not self.quoted and self.text.startswith("0x") and self.index is not None
+        return self._kind()[0] == "integer16"
 
     def show(self) -> str:
         if self.kind == "begin":
             return f"<{self.text}>"
         if self.kind == "end":
             return f"</{self.text}>"
+        if self.kind == "option":
+            return f"'+{self.text}+'"
         return repr(self.text)
 
 
 def _decode(raw: str) -> str:
+    if "&" not in raw and not _CTRL_RE.search(raw):
+        return raw
     raw = _CTRL_RE.sub(" ", raw)
     return _ENTITY_RE.sub(lambda m: _ENTITIES.get(m.group(0), m.group(0)), raw)
 
 
-def tokenize(text: str, where: str = "<string>") -> list[Token]:
-    """Split libFAUDES token text into :class:`Token` objects (begin tags with attributes)."""
-    tokens: list[Token] = []
-    i, n, line = 0, len(text), 1
-
-    def fail(msg: str) -> FormatError:
-        return FormatError(f"line {line}: {msg}", value=msg, where=where)
-
-    while i < n:
-        c = text[i]
-        if c == "\n":
-            line += 1
-            i += 1
-        elif c.isspace() or ord(c) < 32 or ord(c) == 127:
-            i += 1
-        elif c == "%":
-            j = text.find("\n", i)
-            i = n if j < 0 else j
-        elif c in "\"'":
-            j = i + 1
-            while j < n and text[j] not in (c, "<", ">"):
-                j += 1
-            if j >= n or text[j] != c:
-                raise fail(f"unterminated quoted name starting {text[i:i + 20]!r}")
-            tokens.append(Token("string", _decode(text[i + 1:j]), line, quoted=True))
-            line += text.count("\n", i, j)
-            i = j + 1
-        elif c == "+":
-            j = text.find("+", i + 1)
-            if j < 0 or any(ch in "<>" for ch in text[i:j]):
-                raise fail(f"unterminated option starting {text[i:i + 20]!r}")
-            tokens.append(Token("option", text[i + 1:j], line))
-            line += text.count("\n", i, j)
-            i = j + 1
-        elif c == "<":
-            i, line = _markup(text, i, line, tokens, fail)
-        elif c == ">":
-            raise fail("stray '>'")
-        elif c == "=":
-            raise fail("binary (base64) tokens are not supported in generator files")
-        else:
-            j = i
-            while j < n and not (text[j].isspace() or ord(text[j]) < 32 or text[j] in "<>"):
-                j += 1
-            tokens.append(Token("string", _decode(text[i:j]), line))
-            i = j
-    return tokens
-
-
-_ATTR_RE = re.compile(r"""\s*([^\s=/>]+)\s*=\s*("[^"<>]*"|'[^'<>]*'|[^\s"'<>/]+)""")
-
-
-def _markup(text: str, i: int, line: int, tokens: list[Token], fail) -> tuple[int, int]:
-    """Read one ``<…>`` construct at ``text[i]``; append tokens; return the new position and line."""
-    if text.startswith("<!--", i):
-        j = text.find("-->", i + 4)
-        if j < 0:
-            raise fail("unterminated XML comment")
-        return j + 3, line + text.count("\n", i, j)
-    if text.startswith("<![CDATA[", i):
-        j = text.find("]]>", i)
-        if j < 0:
-            raise fail("unterminated CDATA section")
-        tokens.append(Token("string", text[i + 9:j], line, quoted=True))
-        return j + 3, line + text.count("\n", i, j)
-    if text.startswith("<?", i) or text.startswith("<!", i):
-        j = text.find(">", i)
-        if j < 0:
-            raise fail(f"unterminated markup {text[i:i + 20]!r}")
-        return j + 1, line + text.count("\n", i, j)
-    j = text.find(">", i)
-    if j < 0 or "<" in text[i + 1:j]:
-        raise fail(f"unterminated markup {text[i:i + 20]!r}")
-    body = text[i + 1:j]
-    newline = line + body.count("\n")
-    if body.startswith("/"):
-        name = body[1:].strip()
-        if not name or any(ch.isspace() for ch in name):
-            raise fail(f"malformed end tag <{body}>")
-        tokens.append(Token("end", name, line))
-        return j + 1, newline
-    empty = body.endswith("/")
-    if empty:
-        body = body[:-1]
-    m = re.match(r"[A-Za-z_:][^\s/]*", body)
-    if not m:
-        raise fail(f"malformed tag <{body}>")
-    name, rest = m.group(0), body[m.end():]
-    attrs: dict[str, str] = {}
-    pos = 0
-    while rest[pos:].strip():
-        a = _ATTR_RE.match(rest, pos)
-        if not a:
-            raise fail(f"malformed attribute in <{body}>")
-        value = a.group(2)
-        if value[0] in "\"'":
-            value = value[1:-1]
-        attrs[a.group(1)] = _decode(value)
-        pos = a.end()
-    tokens.append(Token("begin", name, line, attrs=attrs))
-    if empty:
-        tokens.append(Token("end", name, line))
-    return j + 1, newline
-
-
 class TokenReader:
-    """A cursor over a token list, with the error helpers of the parser."""
+    """A lazy cursor over libFAUDES token text, tracking nested sections as libFAUDES does."""
 
-    def __init__(self, tokens: list[Token], where: str):
-        self.tokens, self.pos, self.where = tokens, 0, where
+    def __init__(self, text: str, where: str = "<string>", raw: bytes | None = None):
+        self.text, self.where = text, where
+        #: the text as bytes, one per character (Latin-1), for the checks of :mod:`.gen_bulk`
+        self.raw = raw if raw is not None else text.encode("latin-1", errors="replace")
+        self.pos = 0  # where the next token starts scanning
+        self.stack: list[str] = []  # labels of the open sections
+        self._peeked: list[Token] = []  # scanned, not yet consumed (an empty tag gives two)
+
+    # -- positions and errors --------------------------------------------------
+
+    def line_at(self, pos: int) -> int:
+        return self.text.count("\n", 0, pos) + 1
+
+    def error(self, where: int | Token, msg: str, value=None) -> FormatError:
+        """A :class:`FormatError` at a token or text position: ``line N: msg``."""
+        pos = where.pos if isinstance(where, Token) else where
+        return FormatError(f"line {self.line_at(pos)}: {msg}", value=value if value is not None else msg,
+                           where=self.where)
+
+    def mark(self) -> tuple[int, list[str], list[Token]]:
+        return self.pos, list(self.stack), list(self._peeked)
+
+    def reset(self, mark: tuple[int, list[str], list[Token]]) -> None:
+        self.pos, self.stack, self._peeked = mark[0], list(mark[1]), list(mark[2])
+
+    # -- scanning ---------------------------------------------------------------
+
+    def _scan(self) -> list[Token]:
+        """The next token(s) at ``self.pos`` (``[]`` at the end of the text)."""
+        text = self.text
+        while True:
+            i = _SPACE_RE.match(text, self.pos).end()
+            self.pos = i
+            if i >= len(text):
+                return []
+            c = text[i]
+            if c == "<":
+                out = self._markup(i)
+                if out:
+                    return out
+                continue  # a comment, declaration or processing instruction
+            if c == '"' or c == "'":
+                m = (_DQ_RE if c == '"' else _SQ_RE).match(text, i)
+                if m is None:
+                    raise self.error(i, f"unterminated quoted name starting {text[i:i + 20]!r}")
+                self.pos = m.end()
+                return [Token("string", _decode(m.group(1)), i, quoted=True)]
+            if c == "+":
+                m = _OPT_RE.match(text, i)
+                if m is None:
+                    raise self.error(i, f"unterminated option starting {text[i:i + 20]!r}")
+                self.pos = m.end()
+                return [Token("option", m.group(1), i)]
+            if c == ">":
+                raise self.error(i, "stray '>'")
+            if c == "=":
+                raise self.error(i, "binary (base64) tokens are not supported in generator files")
+            m = _BARE_RE.match(text, i)
+            self.pos = m.end()
+            return [Token("string", _decode(m.group(0)), i)]
+
+    def _markup(self, i: int) -> list[Token]:
+        """The construct ``<…>`` at ``text[i]``: tokens, or ``[]`` for one to skip."""
+        text = self.text
+        if text.startswith("<!--", i):
+            j = text.find("-->", i + 4)
+            if j < 0:
+                raise self.error(i, "unterminated XML comment")
+            self.pos = j + 3
+            return []
+        if text.startswith("<![CDATA[", i):
+            j = text.find("]]>", i)
+            if j < 0:
+                raise self.error(i, "unterminated CDATA section")
+            self.pos = j + 3
+            return [Token("string", text[i + 9:j], i, quoted=True)]
+        j = text.find(">", i)
+        if j < 0 or "<" in text[i + 1:j]:
+            raise self.error(i, f"unterminated markup {text[i:i + 20]!r}")
+        self.pos = j + 1
+        body = text[i + 1:j]
+        if body[:1] in ("?", "!"):
+            return []
+        if body.startswith("/"):
+            name = body[1:].rstrip()
+            if not name or any(ch <= " " for ch in name):
+                raise self.error(i, f"malformed end tag <{body}>")
+            return [Token("end", name, i)]
+        empty = body.endswith("/")
+        if empty:
+            body = body[:-1]
+        m = _TAG_RE.match(body)
+        if not m:
+            raise self.error(i, f"malformed tag <{body}>")
+        attrs: dict[str, str] = {}
+        rest, pos = body[m.end():], 0
+        while rest[pos:].strip():
+            a = _ATTR_RE.match(rest, pos)
+            if not a:
+                raise self.error(i, f"malformed attribute in <{body}>")
+            value = a.group(2)
+            attrs[a.group(1)] = _decode(value[1:-1] if value[0] in "\"'" else value)
+            pos = a.end()
+        begin = Token("begin", m.group(0), i, attrs=attrs)
+        return [begin, Token("end", m.group(0), i)] if empty else [begin]
+
+    # -- the cursor -------------------------------------------------------------
 
     def peek(self) -> Token | None:
-        return self.tokens[self.pos] if self.pos < len(self.tokens) else None
+        if not self._peeked:
+            self._peeked = self._scan()
+        return self._peeked[0] if self._peeked else None
 
     def get(self) -> Token:
         t = self.peek()
         if t is None:
-            last = self.tokens[-1].line if self.tokens else 1
-            raise self.error(last, "unexpected end of file")
-        self.pos += 1
+            raise self.error(len(self.text), "unexpected end of file")
+        self._peeked.pop(0)
+        if t.kind == "begin":
+            self.stack.append(t.text)
+        elif t.kind == "end":
+            if not self.stack:
+                raise self.error(t, f"unbalanced end tag {t.show()}", t.text)
+            self.stack.pop()
         return t
 
-    def error(self, line: int, msg: str, value=None) -> FormatError:
-        return FormatError(f"line {line}: {msg}", value=value if value is not None else msg, where=self.where)
-
     def is_end(self, label: str) -> bool:
+        """libFAUDES's ``Eos(label)``."""
         t = self.peek()
         return t is not None and t.kind == "end" and t.text == label
 
+    def is_begin(self, *labels: str) -> bool:
+        t = self.peek()
+        return t is not None and t.kind == "begin" and t.text in labels
+
     def begin(self, *labels: str) -> Token:
-        t = self.get()
-        if t.kind != "begin" or t.text not in labels:
-            raise self.error(t.line, f"expected <{labels[0]}>, found {t.show()}", t.text)
-        return t
+        t = self.peek()
+        if t is None or t.kind != "begin" or t.text not in labels:
+            found = "the end of the file" if t is None else t.show()
+            raise self.error(len(self.text) if t is None else t, f"expected <{labels[0]}>, found {found}",
+                             None if t is None else t.text)
+        return self.get()
 
     def end(self, label: str) -> None:
-        t = self.get()
-        if t.kind != "end" or t.text != label:
-            raise self.error(t.line, f"expected </{label}>, found {t.show()}", t.text)
+        """libFAUDES's ``ReadEnd(label)``: skip to the end of the current section (text
+        that is not markup is skipped as character data, see :meth:`skip_text`)."""
+        level = len(self.stack)
+        while True:
+            if not self._peeked or self._peeked[0].kind not in ("begin", "end"):
+                self.skip_text()
+            t = self.peek()
+            if t is None:
+                raise self.error(len(self.text), f"missing </{label}>", label)
+            if t.kind == "end" and t.text == label and len(self.stack) == level:
+                self.get()
+                return
+            if t.kind == "end" and len(self.stack) == level:
+                raise self.error(t, f"expected </{label}>, found {t.show()}", t.text)
+            self.get()
 
     def skip_section(self) -> None:
         """Skip a begin tag and everything up to its matching end tag."""
         t = self.get()
-        depth = 1
-        while depth:
-            u = self.get()
-            if u.kind == "begin":
-                depth += 1
-            elif u.kind == "end":
-                depth -= 1
-                if depth == 0 and u.text != t.text:
-                    raise self.error(u.line, f"expected </{t.text}>, found {u.show()}", u.text)
+        self.end(t.text)
 
     def skip_attributes(self) -> None:
-        """libFAUDES's ``AttributeVoid::Skip``: drop options and foreign sections after an element."""
+        """libFAUDES's ``AttrType::Skip``: drop what follows an element up to the next
+        string, integer, end tag or ``<Consecutive>`` (options, ``0x…``, booleans,
+        negative numbers, foreign sections)."""
         while True:
             t = self.peek()
-            if t is None or t.kind == "end" or (t.kind == "string"):
+            if t is None or t.kind == "end" or (t.kind == "begin" and t.text == "Consecutive"):
+                return
+            if t.kind == "string" and t.ftype in ("string", "integer"):
                 return
             if t.kind == "begin":
-                if t.text == "Consecutive":
-                    return
                 self.skip_section()
             else:
                 self.get()
 
+    def seek_begin(self, label: str) -> Token:
+        """libFAUDES's ``SeekBegin(label)``: the first ``<label>`` at any depth; text
+        that is not markup is skipped, other sections are entered and left."""
+        text, start = self.text, len(self.stack)
+        self._peeked = []
+        while True:
+            self.skip_text()
+            i = self.pos
+            if i >= len(text):
+                raise self.error(len(text), f"expected <{label}>, found no <{label}> section", label)
+            tokens = self._markup(i)
+            for t in tokens:
+                if t.kind == "begin" and t.text == label:
+                    self._peeked = tokens[tokens.index(t):]
+                    return self.get()
+                if t.kind == "end" and len(self.stack) <= start:
+                    raise self.error(t, f"expected <{label}>, found {t.show()}", t.text)
+                self._peeked = [t]
+                self.get()
 
-def valid_symbol(name: str) -> bool:
-    """libFAUDES's ``SymbolTable::ValidSymbol``: printable ASCII, no blank, ``"`` or ``#``."""
-    return bool(name) and all(33 <= ord(ch) <= 126 and ch not in '"#' for ch in name)
+    def skip_text(self) -> None:
+        """libFAUDES's ``ReadCharacterData``: drop a peeked string and the text up to the
+        next ``<``; a ``%`` comment in that text must not hold ``<`` or ``>``."""
+        self._peeked = [t for t in self._peeked if t.kind in ("begin", "end")]
+        if self._peeked:
+            return
+        text, i = self.text, self.pos
+        j = text.find("<", i)
+        j = len(text) if j < 0 else j
+        k = text.find("%", i, j)
+        while k >= 0:
+            eol = text.find("\n", k)
+            eol = len(text) if eol < 0 else eol
+            bad = min((x for x in (text.find("<", k, eol), text.find(">", k, eol)) if x >= 0), default=-1)
+            if bad >= 0:
+                raise self.error(bad, f"'{text[bad]}' in a '%' comment outside a section", text[bad])
+            j = text.find("<", eol)
+            j = len(text) if j < 0 else j
+            k = text.find("%", eol, j)
+        self.pos = j
+
+    def section_text(self, label: str) -> tuple[int, int] | None:
+        """``(start, end)`` of the text of the section that begins with the peeked
+        ``<label>`` when that text holds no markup, else ``None``; nothing is consumed."""
+        t = self.peek()
+        if t is None or t.kind != "begin" or t.text != label or len(self._peeked) != 1:
+            return None
+        j = self.text.find("<", self.pos)
+        if j < 0 or not self.text.startswith("</" + label, j):
+            return None
+        k = self.text.find(">", j)
+        if k < 0 or self.text[j + 2:k].rstrip() != label:
+            return None
+        return self.pos, j
+
+    def jump(self, pos: int, label: str) -> None:
+        """Consume the peeked ``<label>`` and its text up to ``pos`` (``</label>`` is next)."""
+        self.get()
+        self.pos = pos
+        self._peeked = []
+
+
+def tokenize(text: str, where: str = "<string>") -> list[Token]:
+    """Every token of ``text`` (for tests and tools; the readers scan lazily)."""
+    r = TokenReader(text, where)
+    out = []
+    while True:
+        batch = r._scan()
+        if not batch:
+            return out
+        out.extend(batch)
