@@ -148,3 +148,15 @@ def test_a_ten_million_state_gen_file_is_answered_or_stopped_by_its_budget(tmp_p
     code, out, err = run("supcon", "--plant", path, "--json", "--timeout", "5")
     assert code in (0, 3), err
     assert json.loads(out)["status"] in ("ok", "unknown")
+
+
+@pytest.mark.timeout(60)
+def test_an_unterminated_quote_after_blanks_is_answered_at_once(tmp_path):
+    """Found by this suite: an unterminated quote after a run of blanks in <TransRel> made
+    the bulk reader's regular expression backtrack exponentially (the command hung)."""
+    path = tmp_path / "g.gen"
+    path.write_text('<Generator> "G" <Alphabet> "a" "b" </Alphabet> <States> I W </States>\n<TransRel>\n'
+                    'I "a" W\nW            "           W\nW "b" I\n</TransRel> <InitStates> I </InitStates>\n'
+                    '<MarkedStates> I </MarkedStates> </Generator>\n')
+    code, _, err = run("force", path, "--json", "--quiet")
+    assert code == 2 and "g.gen" in err and len(err.strip().splitlines()) == 1

@@ -13,15 +13,19 @@ import os
 
 from ...errors import InputError
 from ..generator import Generator
+from .files import write_atomic
 
-__all__ = ["to_dot", "write_dot"]
+__all__ = ["DOT_MAX_STATES", "to_dot", "write_dot"]
+
+#: the largest generator written as DOT (beyond it, a drawing is unreadable: use .gen)
+DOT_MAX_STATES = 2000
 
 
 def _quote(s: str) -> str:
     return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
-def to_dot(g: Generator, max_states: int = 2000) -> str:
+def to_dot(g: Generator, max_states: int = DOT_MAX_STATES) -> str:
     """The DOT text of ``g``; raises :class:`InputError` beyond ``max_states`` states.
 
     >>> from supcoord.des.generator import Event
@@ -48,8 +52,6 @@ def to_dot(g: Generator, max_states: int = 2000) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_dot(g: Generator, path: str | os.PathLike, max_states: int = 2000) -> None:
+def write_dot(g: Generator, path: str | os.PathLike, max_states: int = DOT_MAX_STATES) -> None:
     """Write :func:`to_dot` of ``g`` to ``path``."""
-    text = to_dot(g, max_states)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
+    write_atomic(path, [to_dot(g, max_states)], "utf-8")

@@ -1,12 +1,16 @@
-"""Reading a generator file's bytes, with the project's error for an unreadable file."""
+"""Reading a generator file's bytes, with the project's error for an unreadable file,
+and writing a file atomically (a temporary file in the target directory, then
+:func:`os.replace`), so that a reader never sees half a file."""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 
-from ...errors import FormatError
+from ...errors import FormatError, InputError
+from ...outputs import atomic_output
 
-__all__ = ["read_bytes"]
+__all__ = ["read_bytes", "write_atomic"]
 
 
 def read_bytes(path: str | os.PathLike) -> bytes:
@@ -17,3 +21,19 @@ def read_bytes(path: str | os.PathLike) -> bytes:
             return f.read()
     except OSError as exc:
         raise FormatError(f"cannot read generator file: {exc.strerror or exc}", value=where, where=where) from None
+
+
+def write_atomic(path: str | os.PathLike, chunks: Iterable[str | bytes], encoding: str = "utf-8") -> None:
+    """Write the text ``chunks`` (strings, encoded with ``encoding``, or bytes as they
+    are) to ``path`` through a temporary file in the same directory, moved into place
+    once complete (:func:`supcoord.outputs.atomic_output`); :class:`InputError` naming the
+    path if it cannot be written."""
+    where = os.fspath(path)
+    try:
+        with atomic_output(where) as tmp:
+            with open(tmp, "wb") as f:
+                for chunk in chunks:
+                    f.write(chunk if isinstance(chunk, bytes) else chunk.encode(encoding))
+    except OSError as exc:
+        raise InputError(f"cannot write: {exc.strerror or exc}", value=where, where=where) from None
+

@@ -20,7 +20,7 @@ from typing import Any, Callable
 
 from ...errors import FormatError, InputError, NondeterminismError
 from ..generator import Event, Generator
-from .files import read_bytes
+from .files import read_bytes, write_atomic
 
 __all__ = ["generator_to_dict", "generator_from_dict", "parse_json", "format_json", "read_json", "write_json"]
 
@@ -174,6 +174,4 @@ def format_json(g: Generator) -> str:
 
 def write_json(g: Generator, path: str | os.PathLike) -> None:
     """Write ``g`` as JSON (:func:`format_json`)."""
-    text = format_json(g)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
+    write_atomic(path, [format_json(g)], "utf-8")
