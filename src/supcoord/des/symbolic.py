@@ -195,36 +195,16 @@ def from_explicit(ctx: Context, g: Generator, var: str | None = None) -> Symboli
     return SymbolicGenerator(ctx, g.name, (name,), events, state[g.init], marked, ctx.domain([name]))
 
 
-def to_explicit(sg: SymbolicGenerator, max_states: int = 1_000_000, name: str | None = None) -> Generator:
+def to_explicit(sg: SymbolicGenerator, max_states: int = 1_000_000, name: str | None = None,
+                states: BDD | None = None) -> Generator:
     """The accessible part of ``sg`` as an explicit generator, numbered breadth-first
     from the initial state with events in alphabet order (deterministic).
 
-    State names are the variable values, e.g. ``"G=3,E=0"``.  Raises
-    :class:`InputError` beyond ``max_states`` states.
+    State names are the variable values, e.g. ``"G=3,E=0"``.  The states are
+    enumerated in bulk (:func:`supcoord.des.symbolic_export.to_flat`); ``states``, when
+    given, is a set holding the accessible states (a supervisor's state set), which
+    spares computing them.  Raises :class:`InputError` beyond ``max_states`` states.
     """
-    ctx, variables = sg.ctx, sg.variables
-    init = sg.pick(sg.init)
-    if init is None:
-        return Generator(0, sg.alphabet, [], None, (), name or sg.name)
-    key = lambda d: tuple(d[v] for v in variables)  # noqa: E731
-    index = {key(init): 0}
-    queue: list[dict[str, int]] = [init]
-    transitions = []
-    for values in queue:
-        here = ctx.assignment(values) if variables else ctx.true
-        src = index[key(values)]
-        for e in sg.events:
-            nxt = sg.post(here, e)
-            if nxt == ctx.false:
-                continue
-            d = ctx.pick(nxt, variables) if variables else {}
-            k = key(d)
-            if k not in index:
-                if len(queue) >= max_states:
-                    raise InputError(f"{sg.name!r} has more than {max_states} reachable states to enumerate", value=max_states)
-                index[k] = len(queue)
-                queue.append(d)
-            transitions.append((src, e, index[k]))
-    marked = [i for i, values in enumerate(queue) if (ctx.assignment(values) if variables else ctx.true) & sg.marked != ctx.false]
-    names = [",".join(f"{v}={values[v]}" for v in variables) or "0" for values in queue]
-    return Generator(len(queue), sg.alphabet, transitions, 0, marked, name or sg.name, names)
+    from .symbolic_export import to_flat
+
+    return to_flat(sg, states, max_states, name).to_generator()
