@@ -1,5 +1,7 @@
 """``supcoord supcon``: formats.md JSON, exit statuses, export, agreement with libFAUDES
-(files written by libFAUDES itself and by supcoord), once through a subprocess."""
+(files written by libFAUDES itself and by supcoord), libFAUDES's conventions
+(controllability from the plant, specification-only events), the explicit and symbolic
+routes giving the same supervisor, once through a subprocess."""
 
 import json
 import os
@@ -44,18 +46,18 @@ def small_factory_files(directory: Path, writer="faudes"):
     return paths, (M1, M2), (BUF, BR)
 
 
-@pytest.mark.parametrize("writer", ["faudes", "supcoord"])
-def test_small_factory_json_and_export(tmp_path, capsys, writer):
+@pytest.mark.parametrize("writer,route", [("faudes", "auto"), ("supcoord", "auto"), ("faudes", "explicit")])
+def test_small_factory_json_and_export(tmp_path, capsys, writer, route):
     paths, plants, specs = small_factory_files(tmp_path, writer)
     out_file = tmp_path / "V.gen"
     code, out, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
-                             "--export", out_file, "--json")
+                             "--export", out_file, "--json", "--route", route)
     assert code == 0, err
     payload = json.loads(out)
     assert set(payload) == KEYS
     assert payload["status"] == "ok"
     assert (payload["states"], payload["transitions"], payload["marked"]) == (12, 24, 1)
-    assert payload["bdd_nodes"] > 0 and payload["seconds"] >= 0
+    assert (payload["bdd_nodes"] > 0) == (route != "explicit") and payload["seconds"] >= 0
     exported = from_faudes(faudes.System(str(out_file)))  # libFAUDES reads what we wrote
     oracle = faudes_supcon(X.sync(*plants), X.sync(*specs))
     assert Generator(exported.n_states, oracle.alphabet, exported.transitions(), exported.init, exported.marked).same_as(oracle)
@@ -123,7 +125,7 @@ def test_spec_event_unknown_to_plant(tmp_path, capsys):
     paths, _, _ = small_factory_files(tmp_path)
     code, _, err = run_cli(capsys, "--plant", paths["MACH1"], "--spec", paths["BUF"])
     line = one_line_error(err)
-    assert code == 2 and "'21'" in line and "BUF.gen" in line
+    assert code == 2 and "'21'" in line and "BUF.gen" in line and "--spec-only-events selfloop" in line
 
 
 def test_nondeterministic_file(tmp_path, capsys):
@@ -201,3 +203,140 @@ def test_export_limit_must_be_positive(tmp_path, capsys):
     assert main(["supcon", "--plant", str(path), "--spec", str(path), "--export-limit", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--export-limit" in err and "got 0" in err
+
+
+# -- libFAUDES's conventions: controllability from the plant, specification-only events --------
+
+
+def plain_generator_file(g: Generator, path: Path) -> Path:
+    """``g`` written by libFAUDES as a plain Generator: no controllability flags at all."""
+    h = faudes.Generator()
+    for e in g.alphabet:
+        h.InsEvent(e.name)
+    idx = [h.InsState() for _ in range(g.n_states)]
+    for a, e, b in g.transitions():
+        h.SetTransition(idx[a], h.EventIndex(e), idx[b])
+    h.SetInitState(idx[g.init])
+    for q in g.marked:
+        h.SetMarkedState(idx[q])
+    h.Write(str(path))
+    return path
+
+
+@pytest.mark.parametrize("route", ["symbolic", "explicit"])
+def test_specifications_without_flags_take_the_plants(tmp_path, capsys, route):
+    paths, plants, specs = small_factory_files(tmp_path)
+    bare = [plain_generator_file(g, tmp_path / f"plain_{g.name}.gen") for g in specs]
+    code, out, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", *bare, "--json",
+                             "--route", route, "--export", tmp_path / "V.gen")
+    assert code == 0 and err == "", err
+    assert json.loads(out)["states"] == 12
+    exported = from_faudes(faudes.System(str(tmp_path / "V.gen")))
+    assert exported.same_as(faudes_supcon(X.sync(*plants), X.sync(*specs)))
+
+
+def test_a_flag_that_contradicts_the_plant_is_a_warning_naming_event_and_file(tmp_path, capsys):
+    paths, _, specs = small_factory_files(tmp_path)
+    BUF = specs[0]
+    wrong = Generator(BUF.n_states, [Event(e.name, not e.controllable) for e in BUF.alphabet], BUF.transitions(),
+                      BUF.init, BUF.marked, "BUF")
+    write_generator(wrong, tmp_path / "wrong.gen")
+    code, out, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", tmp_path / "wrong.gen",
+                             paths["BR"], "--json")
+    assert code == 0 and json.loads(out)["states"] == 12
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("supcoord: warning: ") and "wrong.gen" in lines[0]
+    assert "'10'" in lines[0] and "'21'" in lines[0]
+
+
+@pytest.mark.parametrize("route", ["symbolic", "explicit"])
+def test_specification_only_events_as_controllable_plant_selfloops(tmp_path, capsys, route):
+    # the specification counts 'done' events the plant does not have (libFAUDES examples add them
+    # to the plant as controllable self-loops)
+    paths, plants, specs = small_factory_files(tmp_path)
+    BR = specs[1]
+    extra = Generator(BR.n_states + 1, BR.alphabet + [Event("done", False)],
+                      list(BR.transitions()) + [(0, "done", 2), (2, "done", 0)], 0, [0], "BRX")
+    write_generator(extra, tmp_path / "BRX.gen")
+    argv = ["--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], tmp_path / "BRX.gen", "--json",
+            "--route", route, "--export", tmp_path / "V.gen"]
+    code, _, err = run_cli(capsys, *argv)
+    assert code == 2 and "'done'" in one_line_error(err) and "BRX.gen" in err
+    code, out, err = run_cli(capsys, *argv, "--spec-only-events", "selfloop")
+    assert code == 0, err
+    G = X.selfloop(X.sync(*plants), [Event("done", True)])
+    oracle = faudes_supcon(G, X.sync(specs[0], Generator(extra.n_states, [G.events[e] for e in extra.events],
+                                                             extra.transitions(), 0, [0], "BRX")))
+    exported = from_faudes(faudes.System(str(tmp_path / "V.gen")))
+    assert json.loads(out)["states"] == oracle.n_states and exported.same_as(oracle)
+
+
+# -- the two routes, the export limit and the export's budget -----------------------------------
+
+
+@settings(max_examples=15, deadline=None)
+@given(systems())
+def test_routes_write_the_same_supervisor(system):
+    _, plants, specs = system
+    with tempfile.TemporaryDirectory() as d:
+        files = []
+        for g in plants + specs:
+            to_faudes(g).Write(str(Path(d) / f"{g.name}.gen"))
+            files.append(str(Path(d) / f"{g.name}.gen"))
+        texts = []
+        for route in ("symbolic", "explicit"):
+            out_file = Path(d) / f"V_{route}.gen"
+            assert main(["supcon", "--plant", *files[: len(plants)], "--spec", *files[len(plants):], "--route", route,
+                         "--export", str(out_file), "--quiet"]) == 0
+            texts.append(out_file.read_text())
+    assert texts[0] == texts[1]
+
+
+def test_auto_route_is_explicit_for_a_large_flat_component(tmp_path, capsys):
+    n = 700  # a ring of machines' states, more than LARGE_COMPONENT
+    ring = Generator.from_tct(n, [(q, 10 + 2 * (q % 2) + (q % 3 == 0), (q + 1) % n) for q in range(n)], 0, [0], "RING")
+    write_generator(ring, tmp_path / "RING.gen")
+    spec = Generator.from_tct(2, [(0, 11, 1), (1, 12, 0), (0, 10, 0), (1, 10, 1), (0, 13, 0), (1, 13, 1)], 0, [0], "S")
+    write_generator(spec, tmp_path / "S.gen")
+    results = {}
+    for route in ("auto", "symbolic"):
+        code, out, err = run_cli(capsys, "--plant", tmp_path / "RING.gen", "--spec", tmp_path / "S.gen", "--json",
+                                 "--route", route, "--export", tmp_path / f"V_{route}.gen")
+        assert code == 0, err
+        results[route] = json.loads(out)
+    assert results["auto"]["bdd_nodes"] == 0 and results["symbolic"]["bdd_nodes"] > 0
+    assert {k: results["auto"][k] for k in ("states", "transitions", "marked")} == \
+        {k: results["symbolic"][k] for k in ("states", "transitions", "marked")}
+    assert (tmp_path / "V_auto.gen").read_text() == (tmp_path / "V_symbolic.gen").read_text()
+
+
+def test_export_limit_is_checked_against_the_known_count_before_any_work(tmp_path, capsys, monkeypatch):
+    import supcoord.des.symbolic_export as export
+
+    monkeypatch.setattr(export, "to_flat", lambda *a, **k: pytest.fail("the export was started"))
+    paths, _, _ = small_factory_files(tmp_path)
+    out_file = tmp_path / "V.gen"
+    code, _, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                           "--export", out_file, "--export-limit", "11", "--route", "symbolic")
+    line = one_line_error(err)
+    assert code == 2 and "12 states" in line and "--export-limit 11" in line and not out_file.exists()
+
+
+def test_a_budget_that_runs_out_in_the_export_names_the_export(tmp_path, capsys, monkeypatch):
+    from supcoord.bdd.budget import Budget
+    from supcoord.errors import BudgetExceeded
+
+    original = Budget.check
+
+    def check(self, stage, nodes, info):
+        if stage == "export":
+            raise BudgetExceeded(f"time budget exceeded in {stage}", stats={"stage": stage, **info}, value=1)
+        return original(self, stage, nodes, info)
+
+    monkeypatch.setattr(Budget, "check", check)
+    paths, _, _ = small_factory_files(tmp_path)
+    code, out, _ = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                           "--export", tmp_path / "V.gen", "--json", "--route", "symbolic")
+    payload = json.loads(out)
+    assert code == 3 and payload["status"] == "unknown" and payload["stats"]["stage"] == "export"
+    assert not (tmp_path / "V.gen").exists()
