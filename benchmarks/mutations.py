@@ -8,6 +8,7 @@ when some test fails; the table records which one and how long it took.
     python benchmarks/mutations.py                  # every mutation, writes results/mutations.md
     python benchmarks/mutations.py --only sweep     # the mutations whose id contains 'sweep'
     python benchmarks/mutations.py --list           # what would run
+    python benchmarks/mutations.py --head           # mutate the committed source, not the working tree
 
 Results: ``benchmarks/results/mutations.md`` (command, date, machine, load, code version);
 docs/testing.md quotes the table.
@@ -28,6 +29,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "mutations.md"
+HEAD_ONLY = False
 
 
 @dataclass(frozen=True)
@@ -114,7 +116,11 @@ MUTATIONS = [
 
 def run(m: Mutation, timeout: float) -> dict:
     with tempfile.TemporaryDirectory(prefix="supcoord-mutant-") as tmp:
-        shutil.copytree(ROOT / "src", Path(tmp) / "src")
+        if HEAD_ONLY:  # the committed source, not the working tree
+            archive = subprocess.run(["git", "archive", "HEAD", "src"], cwd=ROOT, capture_output=True, check=True)
+            subprocess.run(["tar", "-x", "-C", tmp], input=archive.stdout, check=True)
+        else:
+            shutil.copytree(ROOT / "src", Path(tmp) / "src")
         path = Path(tmp) / "src" / "supcoord" / m.path
         text = path.read_text()
         if text.count(m.old) != 1:
@@ -141,7 +147,10 @@ def main() -> int:
     ap.add_argument("--only", help="run the mutations whose id contains this text")
     ap.add_argument("--list", action="store_true", help="list the mutations and stop")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per mutation (default 900)")
+    ap.add_argument("--head", action="store_true", help="mutate the committed source (git HEAD), not the working tree")
     args = ap.parse_args()
+    global HEAD_ONLY
+    HEAD_ONLY = args.head
     chosen = [m for m in MUTATIONS if not args.only or args.only in m.id]
     if args.list:
         for m in chosen:
@@ -154,7 +163,8 @@ def main() -> int:
         print(f"{m.id:36} {r['status']:10} {r['seconds']:7.1f} s  {r['test']}", flush=True)
     caught = sum(r["status"].startswith("caught") for _, r in rows)
     lines = ["# Mutation testing", "",
-             f"Command: `python benchmarks/mutations.py{' --only ' + args.only if args.only else ''}`  ",
+             f"Command: `python benchmarks/mutations.py{' --head' if args.head else ''}"
+             f"{' --only ' + args.only if args.only else ''}`  ",
              f"Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  ",
              f"Machine: {platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs), "
              f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}  ",

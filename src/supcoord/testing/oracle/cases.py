@@ -45,7 +45,7 @@ def _kinematics(rng: np.random.Generator, kind: str, n: int, round_numbers: bool
         steps = int(rng.integers(min(6, cap), min(24, cap) + 1))
         arm = 15.0 if round_numbers else round(float(rng.uniform(8.0, 16.0)), 3)
         return {"kind": "rotary", "arm": arm, "steps": steps}
-    shapes = [s for s in _AB_SHAPES if s[0] * s[1] <= cap] or [s for s in ((3, 2), (2, 2)) if s[0] * s[1] <= cap]
+    shapes = [s for s in _AB_SHAPES if s[0] * s[1] <= cap] or [s for s in ((3, 2),) if s[0] * s[1] <= cap]
     if not shapes:
         raise OracleInputError(f"no alpha-beta discretisation of {n} positioners within {product} configurations",
                                value=product)
