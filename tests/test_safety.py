@@ -368,3 +368,20 @@ def test_node_budget_is_checked_inside_images():
     assert code == 3
     stats = json.loads(out)["stats"]
     assert 1000 < stats["bdd_nodes"] < 5000 and stats["inside"] == "image"
+
+
+@pytest.mark.parametrize("overlap, valid", [(0.0, True), (5e-10, True), (1e-6, False), (1e-3, False)])
+def test_validator_takes_an_overlap_below_a_nanometre_for_the_rounding_of_a_touch(overlap, valid):
+    """Arms that touch at exactly the buffer sum come out 1e-15 mm either side of it in
+    double precision; the validator does not report an overlap under TIE (1e-9 mm), so it
+    never rejects what the planner's own arithmetic found free, and reports anything deeper."""
+    from supcoord.problems.plan import Plan
+    from supcoord.problems.problem import parse_problem
+    from supcoord.problems.validate import TIE, validate_plan
+
+    assert TIE == 1e-9
+    problem = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [34.0 - overlap, 0]]},
+                             "kinematics": {"kind": "rotary", "arm": 15, "steps": 12},
+                             "collision": {"buffer": 2}, "start": [0, 6], "target": [0, 6]}, check_collisions=False)
+    result = validate_plan(problem, Plan("complete", [[[0], [6]]], 0, 0, [], "", {}))
+    assert result["valid"] is valid and result["collisions"] == (0 if valid else 1)

@@ -14,7 +14,9 @@ A plan ``c_0, …, c_T`` is *valid* for a problem when
   ``∀k ∀(a, b) ∀t. dist(S_a(t), S_b(t)) ≥ r_a + r_b``.
 
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
-the collision tables use.  Each step's time axis is first sampled so that no point of a
+the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
+rounding of an exact touch and not reported, so that the tables' and the validator's
+double-precision formulas agree on touching arms.  Each step's time axis is first sampled so that no point of a
 colliding segment moves more than ``resolution/2`` mm between samples (default
 ``resolution`` = 0.05 mm); then every interval between two samples whose distances do
 not settle it is **bisected**: with ``L`` the pair's travel bound (``d(t)`` is
@@ -62,12 +64,16 @@ from .problem import Problem
 from .validate_motion import MAX_OPEN, TOLERANCE, _arm, _close_pairs, _step_distances, segment_distance_ericson
 
 __all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS", "TOLERANCE",
-           "RESOLUTION_RANGE", "MAX_OPEN"]
+           "RESOLUTION_RANGE", "MAX_OPEN", "TIE"]
 
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
 #: accepted first sampling steps (mm): finer only costs memory, coarser only bisection work
 RESOLUTION_RANGE = (1e-4, 100.0)
+#: depth (mm) of an overlap the validator attributes to rounding: arms that touch at exactly the
+#: buffer sum (round-number layouts) come out 1e-15 mm either side of it in double precision,
+#: differently in the planner's formulas and in these, so a touch is not reported as a collision
+TIE = 1e-9
 
 
 def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
@@ -181,12 +187,12 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
         # every point of a colliding segment moves at most reach·Σ|Δ_j|·incr_j (each joint turns
         # the segment about a point within `reach` of it)
         travel = reach * (np.abs(delta) @ incr)
-        dmin, tmin, (unsure, deep) = _step_distances(kin, bases, c0, delta, ia, ib, travel, need, resolution)
+        dmin, tmin, (unsure, deep) = _step_distances(kin, bases, c0, delta, ia, ib, travel, need - TIE, resolution)
         undecided += unsure
         depth = max(depth, deep)
         if len(dmin):
             clearance = min(clearance, float(np.min(dmin - need)))
-        hits = np.nonzero(dmin < need)[0]
+        hits = np.nonzero(dmin < need - TIE)[0]
         collisions += len(hits)
         where = f"step {k}->{k + 1}" if len(confs) > 1 else "configuration 0"
         for h in hits:
