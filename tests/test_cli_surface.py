@@ -467,7 +467,7 @@ def test_bad_values_are_one_line(argv, tmp_path):
     (["frobnicate"], ["frobnicate", "supcoord --help"]),
     (["force"], ["V.gen"]),
     (["force", "DIR"], ["is a directory"]),
-    (["supcon", "--plant", "GEN", "--export", "DIR/missing/V.gen"], ["missing/V.gen", "No such file or directory"]),
+    (["supcon", "--plant", "GEN", "--export", "DIR/missing/V.gen"], ["--export", "missing", "does not exist"]),
     (["supcon", "--plant", "GEN", "--timeout", "inf"], ["--timeout", "inf"]),
 ])
 def test_usage_and_file_errors_are_one_line(argv, names, tmp_path):
