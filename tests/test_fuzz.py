@@ -160,3 +160,20 @@ def test_an_unterminated_quote_after_blanks_is_answered_at_once(tmp_path):
                     '<MarkedStates> I </MarkedStates> </Generator>\n')
     code, _, err = run("force", path, "--json", "--quiet")
     assert code == 2 and "g.gen" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.timeout(60)
+def test_a_five_thousand_digit_attribute_is_no_traceback(tmp_path):
+    """Found by the campaign (spec .gen, seeds 781 and 2104): a 5,000-digit number where the
+    bulk reader classifies bare words hit Python's integer-conversion limit."""
+    from supcoord.des.families import small_factories
+    from supcoord.des.io import write_generator
+
+    plants, specs = small_factories(1)
+    for i, g in enumerate(plants):
+        write_generator(g, tmp_path / f"p{i}.gen")
+    write_generator(specs[0], tmp_path / "s.gen")
+    (tmp_path / "bad.gen").write_bytes(mutate_gen((tmp_path / "s.gen").read_bytes(), random.Random(781)))
+    code, _, err = run("supcon", "--plant", tmp_path / "p0.gen", tmp_path / "p1.gen", "--spec", tmp_path / "bad.gen",
+                       "--json")
+    _assert_clean(code, err, "bad.gen")

@@ -37,7 +37,9 @@ def bare_kind(text: str) -> tuple[str, int | None]:
     if c.isalpha() and text not in _WORDS:
         return "string", None
     if text.isdigit() and text.isascii():
-        return "integer", int(text)
+        digits = text.lstrip("0")
+        # beyond any index libFAUDES accepts; not converted (Python refuses 4,300+ digits)
+        return "integer", int(digits or "0") if len(digits) <= 30 else 10**30
     if text in ("true", "True"):
         return "boolean", 1
     if text in ("false", "False"):
