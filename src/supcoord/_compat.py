@@ -10,7 +10,7 @@ module that warns once and forwards every attribute to the module's new home.
 >>> with warnings.catch_warnings():
 ...     warnings.simplefilter("ignore", DeprecationWarning)  # warned once, on the first import
 ...     from supcoord.positioners import solve
->>> solve is supcoord.solve
+>>> solve is supcoord.solve.__wrapped__   # the same function (supcoord.solve checks its arguments first)
 True
 """
 
