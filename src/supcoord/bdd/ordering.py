@@ -46,6 +46,7 @@ __all__ = [
     "order_components",
     "rcm_order",
     "cuthill_mckee",
+    "bandwidth",
     "force_order",
     "interleaved_order",
     "span",
@@ -138,6 +139,21 @@ def cuthill_mckee(adj: Sequence[Iterable[int]]) -> list[list[int]]:
                     order.append(j)
         parts.append(order)
     return parts
+
+
+def bandwidth(adj: Sequence[Iterable[int]], order: Sequence[int]) -> int:
+    """``max |π(i) − π(j)|`` over the edges ``i — j`` of ``adj`` for the order ``π``
+    (``order[k]`` is the node at position ``k``): how far apart an order puts two
+    neighbours, the quantity Cuthill–McKee keeps small (0 for a graph without edges).
+
+    >>> bandwidth([[1, 2], [0], [0]], [1, 0, 2]), bandwidth([[1, 2], [0], [0]], [1, 2, 0])
+    (1, 2)
+    """
+    pos = {node: k for k, node in enumerate(order)}
+    if len(pos) != len(adj) or set(pos) != set(range(len(adj))):
+        raise InputError(f"an order of the {len(adj)} nodes needs each exactly once, got {list(order)!r}",
+                         value=list(order))
+    return max((abs(pos[i] - pos[j]) for i, nbrs in enumerate(adj) for j in nbrs), default=0)
 
 
 def rcm_order(components: Sequence[Iterable[str]]) -> list[int]:

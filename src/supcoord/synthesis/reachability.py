@@ -39,6 +39,7 @@ References
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Iterable
 
@@ -51,6 +52,7 @@ from ..errors import InputError
 __all__ = [
     "METHODS",
     "DEFAULT_METHOD",
+    "ImageProfile",
     "reachable",
     "coreachable",
     "reachable_naive",
@@ -82,11 +84,66 @@ class _Step:
     support: frozenset[str]  # variables read or written
 
     def image(self, ctx: Context, x: BDD, inside: BDD) -> BDD:
+        if _PROFILES:
+            return _profiled(self, ctx, x, inside)
+        return self._image(ctx, x, inside)
+
+    def _image(self, ctx: Context, x: BDD, inside: BDD) -> BDD:
         if self.forward:
             # Post_σ(X) = ∃ x'_W . (∃ x_W . X ∧ R_σ) ∧ I_W   — i.e. (…)[x'_W := x_W] — ∩ inside
             return ctx.and_exist(ctx.and_exist(x, self.relation, self.qbits), self.ident, self.rbits) & inside
         # Pre_σ(X) = ∃ x'_W . R_σ ∧ (∃ x_W . X ∧ I_W)   — i.e. X[x_W := x'_W] — ∩ inside
         return ctx.and_exist(self.relation, ctx.and_exist(x, self.ident, self.rbits), self.qbits) & inside
+
+
+class ImageProfile:
+    """Measurements of every image the fixpoints of this module take while it is active
+    (``with ImageProfile() as prof: supcon(G, E)``): ``images`` (count), ``seconds`` (in
+    images), ``by_event`` (``{event: [count, seconds]}``, merged events joined by ``|``)
+    and, with ``nodes=True``, ``max_operand``/``max_result``, the largest BDD (nodes) an
+    image was applied to / returned — the intermediate sets of the fixpoint, which the
+    final sets' sizes do not show.  Counting nodes walks each operand: ``nodes=True``
+    slows the images down (~10–20 %); without it the cost is two clock reads."""
+
+    def __init__(self, nodes: bool = False) -> None:
+        self.nodes = nodes
+        self.images = 0
+        self.seconds = 0.0
+        self.max_operand = 0
+        self.max_result = 0
+        self.by_event: dict[str, list] = {}
+
+    def __enter__(self) -> ImageProfile:
+        _PROFILES.append(self)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        _PROFILES.remove(self)
+
+    def as_dict(self) -> dict:
+        out = {"images": self.images, "image_seconds": round(self.seconds, 4)}
+        if self.nodes:
+            out.update(max_operand_nodes=self.max_operand, max_result_nodes=self.max_result)
+        return out
+
+
+_PROFILES: list[ImageProfile] = []
+
+
+def _profiled(step: _Step, ctx: Context, x: BDD, inside: BDD) -> BDD:
+    t = time.perf_counter()
+    out = step._image(ctx, x, inside)
+    dt = time.perf_counter() - t
+    for p in _PROFILES:
+        p.images += 1
+        p.seconds += dt
+        row = p.by_event.setdefault(step.event, [0, 0.0])
+        row[0] += 1
+        row[1] += dt
+        if p.nodes:
+            p.max_operand = max(p.max_operand, ctx.node_count(x))
+            p.max_result = max(p.max_result, ctx.node_count(out))
+    return out
 
 
 def _steps(G: SymbolicGenerator, events: Iterable[str] | None, forward: bool) -> list[_Step]:

@@ -1,0 +1,300 @@
+"""The coupled reading of the paper's model (``supcoord paper --model coupled``): where the time goes.
+
+For each number of positioners ``N`` (``coupled_instance(N, 8, seed)``: the first ``N``
+hex sites, seeded starts and targets outside each other's safety zone) and each
+variable order of :func:`supcoord.paper.coupled.positioner_order` — ``layout`` (the
+order before issue 15) and ``auto`` (Cuthill–McKee on the neighbour graph where it
+lowers the bandwidth) — one fresh subprocess with a time limit and a 6 GiB memory limit
+builds ``G`` and ``allevents(G) || S``, runs ``supcon`` and ``ccc(full=False)`` (what
+``supcoord paper --model coupled`` runs) and reports:
+
+- seconds per stage: ``build``; inside supcon ``reach`` (``Reach(P)``), ``coreach``
+  (the nonblocking and controllability fixpoints) and the rest (``B0``, exact counts);
+  ``ccc`` (forcibility layers up to ``q0``, witness);
+- the profile of the images (:class:`supcoord.synthesis.reachability.ImageProfile`):
+  how many, seconds inside them, the largest operand and result (nodes: the intermediate
+  sets, which the final sizes do not show), and the saturation clusters (how many; one
+  cluster means saturation degenerates into chaining);
+- peak live BDD nodes (CUDD), peak RSS, the reachable set's and ``V``'s BDD nodes;
+- the results, which must not depend on the order: states, transitions, marked, CCC,
+  rank, witness length.
+
+A point that runs out of time reports the stage it was in; larger ``N`` are then not run
+for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
+(``supcon_naive``) and libFAUDES's ``SupCon`` and compares state and transition counts.
+
+Usage::
+
+    python benchmarks/bench_coupled.py --all --check --nodes   # N = 3..7, 19, 37; writes results/coupled.md
+    python benchmarks/bench_coupled.py --sizes 3 4 5 --timeout 60 --check
+    python benchmarks/bench_coupled.py --quick          # N = 3, 4; 30 s; prints, writes nothing
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SIZES = [3, 4, 5, 6, 7, 19, 37]
+ORDERS = ["layout", "auto"]
+STEPS = 8
+MEMORY = 6 * 2**30
+
+
+def _rss_mb() -> float:
+    return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)
+
+
+def _emit(kind: str, data: dict) -> None:
+    print(kind, json.dumps(data), flush=True)
+
+
+def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: bool) -> None:
+    """One point; prints ``P {...}`` progress lines and a final ``R {...}`` line."""
+    from supcoord.bdd import Context
+    from supcoord.paper.coupled import CoupledModel, coupled_models, positioner_order
+    from supcoord.paper.run import coupled_instance
+    from supcoord.synthesis import ccc, supcon
+    from supcoord.synthesis import reachability as R
+    from supcoord.synthesis.product import product
+
+    Context()  # load dd.cudd before timing
+    t0 = time.perf_counter()
+    last = {"stage": "build"}
+
+    def progress(stage: str, info: dict) -> None:
+        if stage != last.get("stage") or time.perf_counter() - last.get("t", 0.0) > 5:
+            last.update(stage=stage, t=time.perf_counter())
+            _emit("P", {"stage": stage, "at": round(time.perf_counter() - t0, 2), "nodes": info.get("nodes"),
+                        "rss_mb": _rss_mb()})
+
+    ctx = Context(progress=progress)
+    inst = coupled_instance(size, steps, seed)
+    model = CoupledModel(inst)
+    model.check()
+    G, E = coupled_models(model, ctx, order=order)
+    t1 = time.perf_counter()
+    clusters = [len(c) for c in R.event_clusters(product(G, E))]
+    fix = {"reach": 0.0, "coreach": 0.0}
+    sizes = {}
+    original = R._fixpoint
+
+    def timed(G_, seeds, within, method, events, forward):  # instrumentation only
+        t = time.perf_counter()
+        out = original(G_, seeds, within, method, events, forward)
+        key = "reach" if forward and within is None else "coreach" if not forward else "reach_within"
+        fix[key] = fix.get(key, 0.0) + time.perf_counter() - t
+        if key == "reach":
+            sizes["reach_nodes"] = ctx.node_count(out)
+        return out
+
+    R._fixpoint = timed
+    with R.ImageProfile(nodes=nodes) as prof:
+        res = supcon(G, E, count_transitions=True)
+        t2 = time.perf_counter()
+        images_supcon = prof.as_dict()
+        _emit("P", {"stage": "ccc", "at": round(t2 - t0, 2), "rss_mb": _rss_mb()})
+        c = ccc(res.supervisor, "preemptive", full=False)
+    R._fixpoint = original
+    t3 = time.perf_counter()
+    st = res.stats
+    out = {
+        "size": size, "steps": steps, "seed": seed, "order": order, "positioner_order": positioner_order(model, order),
+        "states": st["states"], "transitions": st["transitions"], "marked": st["marked"], "ccc": c.forcible,
+        "rank": c.rank, "witness_length": len(c.witness), "witness": c.witness,
+        "seconds": round(t3 - t0, 3), "build": round(t1 - t0, 3), "supcon": round(t2 - t1, 3),
+        "reach": round(fix["reach"], 3), "coreach": round(fix["coreach"] + fix.get("reach_within", 0.0), 3),
+        "ccc_seconds": round(t3 - t2, 3), "ccc_layers": c.stats.get("iterations"),
+        "clusters": clusters, "profile_supcon": images_supcon,
+        "reach_nodes": sizes.get("reach_nodes"), "bdd_nodes": st["bdd_nodes"],
+        "peak_nodes": ctx.peak_nodes(), "rss_mb": _rss_mb(),
+    }
+    if check and size <= 4:
+        out.update(_check(model, st))
+    _emit("R", out)
+
+
+def _check(model, st: dict) -> dict:
+    """The explicit twin and libFAUDES on the same instance: equal counts?"""
+    sys.path.insert(0, os.path.join(HERE, "..", "tests"))
+    from oracle import faudes_supcon  # the tests' libFAUDES bridge
+
+    from supcoord.paper.coupled import coupled_models_explicit
+    from supcoord.synthesis import supcon_naive
+
+    t = time.perf_counter()
+    Gx, Ex = coupled_models_explicit(model)
+    V = supcon_naive(Gx, Ex)
+    t_naive = time.perf_counter() - t
+    t = time.perf_counter()
+    F = faudes_supcon(Gx, Ex)
+    t_faudes = time.perf_counter() - t
+    counts = (st["states"], st["transitions"], st["marked"])
+    return {"explicit_equal": (V.n_states, V.n_transitions, len(V.marked)) == counts,
+            "faudes_equal": (F.n_states, sum(1 for _ in F.transitions()), len(F.marked)) == counts,
+            "explicit_seconds": round(t_naive, 2), "faudes_seconds": round(t_faudes, 2)}
+
+
+# -- driver -------------------------------------------------------------------------------
+
+
+def _limit() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+
+
+def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool) -> dict:
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", str(size), order, str(seed)]
+    cmd += ["--check"] if check else []
+    cmd += ["--nodes"] if nodes else []
+    t = time.perf_counter()
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limit, check=False)
+        text, status = p.stdout, ("ok" if p.returncode == 0 else f"exit {p.returncode}")
+        err = p.stderr.strip().splitlines()[-1:] if p.returncode else []
+    except subprocess.TimeoutExpired as exc:
+        text = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
+        status, err = f"> {timeout:g} s", []
+    wall = time.perf_counter() - t
+    lines = [ln.split(" ", 1) for ln in text.splitlines() if ln[:2] in ("P ", "R ")]
+    result = next((json.loads(j) for k, j in lines if k == "R"), None)
+    progress = [json.loads(j) for k, j in lines if k == "P"]
+    row = result or {"size": size, "order": order}
+    row.update(status=status, wall=round(wall, 2))
+    if result is None:
+        row["last_stage"] = progress[-1] if progress else None
+        row["error"] = err[0] if err else None
+    return row
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return f"{v:.2f}"
+    if isinstance(v, int) and abs(v) >= 10000:
+        return f"{v:,}"
+    return str(v)
+
+
+def table(rows: list[dict]) -> str:
+    head = ["N", "order", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "images",
+            "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
+            "transitions", "rank", "equal to explicit / libFAUDES"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        prof = r.get("profile_supcon") or {}
+        last = r.get("last_stage")
+        status = r["status"] if "states" in r else f"{r['status']} (in {last['stage']} at {last['at']} s, " \
+            f"{_fmt(last.get('nodes'))} nodes)" if last else r["status"]
+        eq = ""
+        if "explicit_equal" in r:
+            eq = f"{'yes' if r['explicit_equal'] else 'NO'} ({r['explicit_seconds']} s) / " \
+                 f"{'yes' if r['faudes_equal'] else 'NO'} ({r['faudes_seconds']} s)"
+        cells = [r["size"], r["order"], status, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
+                 r.get("supcon"), r.get("ccc_seconds"), prof.get("images"), prof.get("image_seconds"),
+                 prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
+                 r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
+                 r.get("transitions"), r.get("rank"), eq]
+        out.append("| " + " | ".join(_fmt(c) for c in cells) + " |")
+    return "\n".join(out)
+
+
+def _machine() -> dict:
+    try:
+        version = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
+                                 cwd=HERE, check=False).stdout.strip()
+    except OSError:
+        version = "?"
+    return {"date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
+            "uname": " ".join(platform.uname()[:3] + (platform.uname()[4],)), "cpus": os.cpu_count(),
+            "python": platform.python_version(), "version": version}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=SIZES)
+    ap.add_argument("--orders", nargs="+", default=ORDERS, choices=["layout", "auto", "bandwidth"])
+    ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--check", action="store_true", help="compare with the explicit twin and libFAUDES (N <= 4)")
+    ap.add_argument("--nodes", action="store_true", help="measure every image's operand (slower)")
+    ap.add_argument("--all", action="store_true", help="run every size even after one ran out of time")
+    ap.add_argument("--quick", action="store_true", help="N = 3, 4, 30 s, print only")
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "coupled.md"))
+    ap.add_argument("--worker", nargs=3, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.worker:
+        size, order, seed = args.worker
+        worker(int(size), STEPS, int(seed), order, args.check, args.nodes)
+        return 0
+    if args.quick:
+        args.sizes, args.timeout = [3, 4], 30.0
+    command = "python benchmarks/bench_coupled.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    machine = _machine()
+    load_before = os.getloadavg()
+    rows = []
+    for order in args.orders:
+        for size in sorted(args.sizes):
+            row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes)
+            rows.append(row)
+            print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
+            if "states" not in row and not args.all:
+                break  # larger N would not finish either
+    load_after = os.getloadavg()
+    text = table(rows)
+    print(text)
+    agree = _agreement(rows)
+    print(agree)
+    if args.quick:
+        return 0
+    with open(args.out, "w") as f:
+        f.write("# The coupled paper model: where the time goes (issue 15)\n\n")
+        f.write(f"Command: `{command.strip()}`  \n")
+        f.write(f"Date: {machine['date']}; machine: {machine['uname']}, {machine['cpus']} CPUs, Python "
+                f"{machine['python']}; code: `{machine['version']}`  \n")
+        f.write(f"Load (1/5/15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; after: "
+                f"{', '.join(f'{x:.2f}' for x in load_after)} — the machine is shared, read ratios within a run.  \n")
+        f.write(f"Each point: a fresh subprocess, {args.timeout:g} s and 6 GiB at most; n = {STEPS} steps, "
+                f"seed {args.seed}.\n\n")
+        f.write(text + "\n\n" + agree + "\n\n")
+        f.write("Columns: seconds are inside the worker (imports excluded): `build` = instance, geometry tables "
+                "and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
+                "fixpoints; `supcon` = all of supcon including exact counts; `ccc` = forcibility layers up to "
+                "`q0` and the witness.  `images`, `image s`, `max operand` profile the images of supcon's "
+                "fixpoints (`ImageProfile`; `max operand` only with `--nodes`).  `clusters` = saturation's "
+                "event clusters (1 = saturation degenerates into chaining).  `reach nodes` = BDD of the "
+                "reachable set; `V nodes` = supervisor (relations included); `peak nodes` = CUDD's peak of "
+                "live nodes.\n\nRaw rows (JSON):\n\n```\n")
+        for r in rows:
+            f.write(json.dumps(r) + "\n")
+        f.write("```\n")
+    print(f"written {args.out}", file=sys.stderr)
+    return 0
+
+
+def _agreement(rows: list[dict]) -> str:
+    """Where both orders finish, every result must be equal."""
+    keys = ("states", "transitions", "marked", "ccc", "rank", "witness")
+    by = {}
+    for r in rows:
+        if "states" in r:
+            by.setdefault(r["size"], []).append(r)
+    lines = []
+    for size, rs in sorted(by.items()):
+        if len(rs) > 1:
+            same = all(all(r[k] == rs[0][k] for k in keys) for r in rs[1:])
+            lines.append(f"N = {size}: {' and '.join(r['order'] for r in rs)} give "
+                         f"{'the same' if same else 'DIFFERENT'} states, transitions, marked, CCC, rank and witness")
+    return "\n".join(lines) or "no size finished under two orders"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
