@@ -56,6 +56,10 @@ __all__ = [
     "distance_table",
     "simultaneous_table",
     "colliding_pairs",
+    "robots_motion_collides",
+    "robot_segments",
+    "robot_reaches",
+    "intern_kinematics",
     "CollisionTables",
     "DEFAULT_TOL",
 ]
@@ -156,17 +160,19 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
 
 
 def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, tol: float = DEFAULT_TOL,
-                       distances: np.ndarray | None = None) -> np.ndarray:
+                       distances: np.ndarray | None = None, kin_b: Kinematics | None = None) -> np.ndarray:
     """``S[u, v, i, j]``: ``a`` doing move ``u`` from ``i`` while ``b`` does move ``v`` from ``j`` collides.
 
     Moves are indexed ``0`` = stand still, ``1 + m`` = ``kin.moves()[m]``; so ``S[0, 0]`` is
     the static table and ``S[1 + m, 0]``/``S[0, 1 + m]`` the swept tables of either mover.
     Both positioners move linearly in joint space over the same time ``t ∈ [0, 1]`` (the
     validator's interpolation); a move past a hard stop is blocked (``True``).  Same
-    end-point prefilter and certified sampling as :func:`swept_table`.
+    end-point prefilter and certified sampling as :func:`swept_table`.  ``kin_b``: ``b``'s
+    kinematics when it differs from ``a``'s (same joints and steps, its own lattice or arms).
     """
+    kin_b = kin_b or kin
     if distances is None:
-        distances = distance_table(kin, base_a, base_b)
+        distances = distance_table(kin, base_a, base_b, kin_b)
     pos = kin.all_positions()
     moves = [None] + kin.moves()
     out = np.ones((len(moves), len(moves), len(pos), len(pos)), dtype=bool)
@@ -188,92 +194,165 @@ def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, t
             vi, vj = np.nonzero(valid[u])[0], np.nonzero(valid[v])[0]
             d0 = distances[np.ix_(vi, vj)]
             d1 = distances[np.ix_(nxt_idx[u][vi], nxt_idx[v][vj])]
-            length = float(kin.sweep_length(deltas[u]) + kin.sweep_length(deltas[v]))
+            length = float(kin.sweep_length(deltas[u]) + kin_b.sweep_length(deltas[v]))
             hit = (d0 < bsum) | (d1 < bsum)
             free = ~hit & ((d0 + d1 - length) / 2 >= bsum)
             ii, jj = np.nonzero(~hit & ~free)
             res = hit
             if len(ii):
-                res[ii, jj] = motion_collides(kin, base_a, pos[vi[ii]], deltas[u], kin, base_b, pos[vj[jj]], deltas[v],
-                                              bsum, tol)
+                res[ii, jj] = motion_collides(kin, base_a, pos[vi[ii]], deltas[u], kin_b, base_b, pos[vj[jj]],
+                                              deltas[v], bsum, tol)
             out[u, v][np.ix_(vi, vj)] = res
     return out
 
 
-def colliding_pairs(kin: Kinematics, bases: Any, buffers: Any, positions: Any,
+def colliding_pairs(kin: Kinematics | list[Kinematics], bases: Any, buffers: Any, positions: Any,
                     pairs: Any | None = None) -> list[tuple[int, int, float]]:
-    """Pairs ``(a, b, distance)`` that collide statically at ``positions`` (``(N, J)`` ints)."""
+    """Pairs ``(a, b, distance)`` that collide statically at ``positions`` (``(N, J)`` ints);
+    ``kin`` is shared by every robot or a list with each robot's own."""
     bases = np.asarray(bases, float)
     buffers = np.broadcast_to(np.asarray(buffers, float), (len(bases),))
     if pairs is None:
-        pairs = neighbour_pairs(bases, kin.reach, buffers)
+        pairs = neighbour_pairs(bases, robot_reaches(kin, len(bases)), buffers)
     pairs = np.asarray(pairs, int).reshape(-1, 2)
-    seg = placed_segments(kin, bases, np.asarray(positions))
+    seg = robot_segments(kin, bases, np.asarray(positions))
     a, b = pairs[:, 0], pairs[:, 1]
     d = segment_distance(seg[a, 0], seg[a, 1], seg[b, 0], seg[b, 1])
     bad = d < buffers[a] + buffers[b]
     return [(int(i), int(j), float(x)) for i, j, x in zip(a[bad], b[bad], d[bad])]
 
 
+def robot_reaches(kin: Kinematics | list[Kinematics], n: int) -> np.ndarray:
+    """Per robot, :attr:`Kinematics.reach` (``kin`` shared or one per robot)."""
+    if isinstance(kin, Kinematics):
+        return np.full(n, kin.reach)
+    return np.array([k.reach for k in kin], dtype=float)
+
+
+def intern_kinematics(kins: list[Kinematics] | None, n: int) -> tuple[list[Kinematics] | None, np.ndarray]:
+    """``(distinct, ids)``: each robot's kinematics as an index into the distinct ones (equal
+    :meth:`Kinematics.key`), so identical robots share tables; ``(None, zeros)`` without ``kins``."""
+    if kins is None:
+        return None, np.zeros(n, dtype=np.int64)
+    seen: dict[tuple, int] = {}
+    distinct: list[Kinematics] = []
+    ids = np.empty(n, dtype=np.int64)
+    for p, k in enumerate(kins):
+        key = k.key()
+        if key not in seen:
+            seen[key] = len(distinct)
+            distinct.append(k)
+        ids[p] = seen[key]
+    return distinct, ids
+
+
+def robot_segments(kin: Kinematics | list[Kinematics], bases: Any, positions: Any) -> np.ndarray:
+    """Colliding segments in the focal plane of robots at (fractional) ``positions``
+    ``(..., N, J)``: ``(..., N, 2, 2)``; ``kin`` shared or one per robot (grouped by key)."""
+    if isinstance(kin, Kinematics):
+        return placed_segments(kin, bases, positions)
+    bases = np.asarray(bases, float)
+    q = np.asarray(positions)
+    distinct, ids = intern_kinematics(kin, len(bases))
+    out = np.empty(q.shape[:-1] + (2, 2))
+    for u, k in enumerate(distinct):
+        idx = np.nonzero(ids == u)[0]
+        out[..., idx, :, :] = placed_segments(k, bases[idx], q[..., idx, :])
+    return out
+
+
+def robots_motion_collides(kin: Kinematics | list[Kinematics], a: Any, base_a: Any, qa: Any, da: Any,
+                           b: Any, base_b: Any, qb: Any, db: Any, bsum: Any, tol: float = DEFAULT_TOL) -> np.ndarray:
+    """:func:`motion_collides` for entries of robots ``a[e]`` and ``b[e]`` (``(E,)`` ints; the
+    other arrays ``(E, …)``), each with its own kinematics (``kin`` shared or one per robot)."""
+    if isinstance(kin, Kinematics):
+        return motion_collides(kin, base_a, qa, da, kin, base_b, qb, db, bsum, tol)
+    a, b = np.atleast_1d(np.asarray(a)), np.atleast_1d(np.asarray(b))
+    e = np.broadcast_shapes(a.shape, b.shape)
+    a, b = np.broadcast_to(a, e), np.broadcast_to(b, e)
+    arrays = [np.broadcast_to(np.asarray(x, float), e + np.shape(x)[-1:]) for x in (base_a, qa, da, base_b, qb, db)]
+    bsum = np.broadcast_to(np.asarray(bsum, float), e)
+    distinct, ids = intern_kinematics(kin, len(kin))
+    groups: dict[tuple[int, int], list[int]] = {}
+    for i, (x, y) in enumerate(zip(ids[a].tolist(), ids[b].tolist())):
+        groups.setdefault((x, y), []).append(i)
+    out = np.zeros(e, dtype=bool)
+    for (x, y), sel in groups.items():
+        ba, pa, ea, bb, pb, eb = (v[sel] for v in arrays)
+        out[sel] = motion_collides(distinct[x], ba, pa, ea, distinct[y], bb, pb, eb, bsum[sel], tol)
+    return out
+
+
 class CollisionTables:
     """Static and swept tables of every neighbour pair of one layout, computed on demand.
 
-    Pairs with the same offset ``x_b − x_a`` and buffer sum share their tables (a hex
-    grid has only a handful of distinct offsets), so a grid of hundreds of positioners
-    costs a few table computations.  ``pairs[k] = (a, b)``; ``static(k)[i, j]`` and
-    ``swept(k, mover)[m, i, j]`` index positions of ``a`` by ``i`` and of ``b`` by ``j``.
+    Pairs of identical robots (equal :meth:`Kinematics.key`) with the same offset
+    ``x_b − x_a`` and buffer sum share their tables (a hex grid of identical robots has only
+    a handful of distinct offsets), so a grid of hundreds of positioners costs a few table
+    computations; robots with their own lattices or arms (``kins``, one per robot) have
+    their own.  ``pairs[k] = (a, b)``; ``static(k)[i, j]`` and ``swept(k, mover)[m, i, j]``
+    index positions of ``a`` by ``i`` and of ``b`` by ``j``.
     """
 
-    def __init__(self, kin: Kinematics, bases: Any, buffers: Any, tol: float = DEFAULT_TOL):
+    def __init__(self, kin: Kinematics, bases: Any, buffers: Any, tol: float = DEFAULT_TOL,
+                 kins: list[Kinematics] | None = None):
         self.kin = kin
         self.bases = np.asarray(bases, float)
         self.buffers = np.broadcast_to(np.asarray(buffers, float), (len(self.bases),)).copy()
         self.tol = tol
-        self.pairs = neighbour_pairs(self.bases, kin.reach, self.buffers)
+        self._distinct, self._ids = intern_kinematics(kins, len(self.bases))
+        self.pairs = neighbour_pairs(self.bases, robot_reaches(kins if kins is not None else kin, len(self.bases)),
+                                     self.buffers)
         self._static: dict[tuple, np.ndarray] = {}
         self._swept: dict[tuple, np.ndarray] = {}
         self._dist: dict[tuple, np.ndarray] = {}
 
-    def _key(self, k: int) -> tuple[tuple[float, float], float]:
+    def _kin(self, u: int) -> Kinematics:
+        return self.kin if self._distinct is None else self._distinct[u]
+
+    def _key(self, k: int) -> tuple:
         a, b = self.pairs[k]
         off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
-        return (float(off[0]), float(off[1])), round(float(self.buffers[a] + self.buffers[b]), 9)
+        return ((float(off[0]), float(off[1])), round(float(self.buffers[a] + self.buffers[b]), 9),
+                int(self._ids[a]), int(self._ids[b]))
 
     def static(self, k: int) -> np.ndarray:
         key = self._key(k)
         if key not in self._static:
-            self._static[key] = self._distances(key[0]) < key[1]
+            off, bsum, ua, ub = key
+            self._static[key] = self._distances(off, ua, ub) < bsum
         return self._static[key]
 
-    def _distances(self, offset: tuple[float, float]) -> np.ndarray:
-        if offset not in self._dist:
-            neg = (-offset[0] + 0.0, -offset[1] + 0.0)
+    def _distances(self, offset: tuple[float, float], ua: int = 0, ub: int = 0) -> np.ndarray:
+        key = (offset, ua, ub)
+        if key not in self._dist:
+            neg = ((-offset[0] + 0.0, -offset[1] + 0.0), ub, ua)
             if neg in self._dist:  # D_{-o}[j, i] = D_o[i, j]
                 return self._dist[neg].T
-            self._dist[offset] = distance_table(self.kin, (0.0, 0.0), offset)
-        return self._dist[offset]
+            self._dist[key] = distance_table(self._kin(ua), (0.0, 0.0), offset, self._kin(ub))
+        return self._dist[key]
 
     def swept(self, k: int, mover: int) -> np.ndarray:
         key = self._key(k) + (mover,)
         if key not in self._swept:
-            (ox, oy), bsum = key[:2]
-            mirror = ((-ox + 0.0, -oy + 0.0), bsum, 1 - mover)
+            (ox, oy), bsum, ua, ub = key[:4]
+            mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
             if mirror in self._swept:  # b moving past a at offset o is a moving past b at −o
                 return np.swapaxes(self._swept[mirror], 1, 2)
-            self._swept[key] = swept_table(self.kin, (0.0, 0.0), (ox, oy), bsum, mover,
-                                           distances=self._distances((ox, oy)))
+            self._swept[key] = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
+                                           distances=self._distances((ox, oy), ua, ub))
         return self._swept[key]
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""
         key = self._key(k) + ("sim",)
         if key not in self._swept:
-            (ox, oy), bsum = key[:2]
-            mirror = ((-ox + 0.0, -oy + 0.0), bsum, "sim")
+            (ox, oy), bsum, ua, ub = key[:4]
+            mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, "sim")
             if mirror in self._swept:  # S_{-o}[v, u, j, i] = S_o[u, v, i, j]
                 return np.transpose(self._swept[mirror], (1, 0, 3, 2))
-            self._swept[key] = simultaneous_table(self.kin, (0.0, 0.0), (ox, oy), bsum, self.tol,
-                                                  distances=self._distances((ox, oy)))
+            self._swept[key] = simultaneous_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, self.tol,
+                                                  distances=self._distances((ox, oy), ua, ub), kin_b=self._kin(ub))
         return self._swept[key]
 
     def neighbours_of(self, p: int) -> list[tuple[int, int, int]]:

@@ -185,6 +185,18 @@ class Kinematics:
     def fibre(self, q: Any) -> np.ndarray:
         return self.segments(q)[..., 1, :]
 
+    def joint_angles_deg(self, q: Any) -> np.ndarray:
+        """Joint angles in degrees ``(..., J)`` of (fractional) positions ``q``."""
+        raise NotImplementedError
+
+    def segments_at_deg(self, angles_deg: Any) -> np.ndarray:
+        """Colliding segment relative to the base at any joint angles (degrees, ``(..., J)``)."""
+        raise NotImplementedError
+
+    def key(self) -> tuple:
+        """Every number the geometry depends on: robots with equal keys are identical."""
+        return tuple(sorted(self.to_json().items(), key=lambda kv: kv[0]))
+
     # --- JSON ---------------------------------------------------------------------
     def to_json(self) -> dict:
         raise NotImplementedError

@@ -75,24 +75,23 @@ def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarr
     nj = problem.kinematics.n_joints
     dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
     xa, da, yb, db = (x, dp, y, dq) if side == 0 else (y, dq, x, dp)
-    off = np.round(problem.bases[b] - problem.bases[a], 9) + 0.0
     bsum = float(problem.buffers[a] + problem.buffers[b])
-    key = (float(off[0]), float(off[1]), round(bsum, 9), tuple(int(v) for v in xa), tuple(int(v) for v in da),
-           tuple(int(v) for v in yb), tuple(int(v) for v in db))
+    key = problem.geometry_key(a, b) + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
+                                        tuple(int(v) for v in yb), tuple(int(v) for v in db))
     hit = cache.get(key)
     if hit is None:
-        kin = problem.kinematics
+        ka, kb = problem.kin(a), problem.kin(b)
         # end-point prefilter (as in collision.swept_table): the distance changes at rate ≤ L
-        poses = np.array([key[3], np.add(key[3], key[4]), key[5], np.add(key[5], key[6])], float)
-        s = placed_segments(kin, problem.bases[[a, a, b, b]], poses)  # a at start and end, b at start and end
-        d0, d1 = segment_distance(s[:2, 0], s[:2, 1], s[2:, 0], s[2:, 1]).tolist()
-        length = float(kin.sweep_length(da) + kin.sweep_length(db))
+        sa = placed_segments(ka, problem.bases[[a, a]], np.array([key[5], np.add(key[5], key[6])], float))
+        sb = placed_segments(kb, problem.bases[[b, b]], np.array([key[7], np.add(key[7], key[8])], float))
+        d0, d1 = segment_distance(sa[:, 0], sa[:, 1], sb[:, 0], sb[:, 1]).tolist()  # at the start and at the end
+        length = float(ka.sweep_length(da) + kb.sweep_length(db))
         if min(d0, d1) < bsum:
             hit = True
         elif (d0 + d1 - length) / 2 >= bsum:
             hit = False
         else:
-            hit = bool(motion_collides(kin, problem.bases[a], xa, da, kin, problem.bases[b], yb, db, bsum, tol))
+            hit = bool(motion_collides(ka, problem.bases[a], xa, da, kb, problem.bases[b], yb, db, bsum, tol))
         cache[key] = hit
     return not hit
 

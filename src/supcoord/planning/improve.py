@@ -130,16 +130,16 @@ class _Replanner:
 
     def merged_hits(self, k: int, side: int, u: int, v: int, j0: int) -> np.ndarray:
         """``hit[i]``: ``r`` doing option ``u`` from ``i`` while ``q`` does ``v`` from ``j0``."""
-        problem, kin, pos = self.problem, self.kin, self.pos
+        problem, pos = self.problem, self.pos
         a, b = (int(x) for x in problem.pairs[k])
         r, q = (a, b) if side == 0 else (b, a)
-        off = np.round(problem.bases[q] - problem.bases[r], 9) + 0.0
-        key = (float(off[0]), float(off[1]), float(problem.buffers[r] + problem.buffers[q]), u, v, j0)
+        key = problem.geometry_key(r, q) + (u, v, j0)
         hit = self.merged_cache.get(key)  # keyed by the pair's geometry: a grid has few distinct offsets
         if hit is None:
             sel = np.nonzero(self.nxt[u] >= 0)[0]
             hit = np.ones(len(pos), dtype=bool)
-            hit[sel] = motion_collides(kin, problem.bases[r], pos[sel], self.deltas[u], kin, problem.bases[q], pos[j0],
+            hit[sel] = motion_collides(problem.kin(r), problem.bases[r], pos[sel], self.deltas[u], problem.kin(q),
+                                       problem.bases[q], pos[j0],
                                        self.deltas[v], problem.buffers[r] + problem.buffers[q])
             self.merged_cache[key] = hit
         return hit

@@ -50,8 +50,8 @@ def _free_table(problem: Problem, k: int, options: list[np.ndarray], valid: np.n
     """``F[u, v, i, j]`` of pair ``k`` (False where a delta leaves the joint ranges)."""
     cache = problem.__dict__.setdefault("_free_sim_cache", {})
     a, b = (int(x) for x in problem.pairs[k])
-    off = np.round(problem.bases[b] - problem.bases[a], 9) + 0.0
-    key = (float(off[0]), float(off[1]), round(float(problem.buffers[a] + problem.buffers[b]), 9))
+    key = problem.geometry_key(a, b)
+    off = key[:2]
     if key in cache:
         return cache[key]
     kin = problem.kinematics
@@ -62,7 +62,7 @@ def _free_table(problem: Problem, k: int, options: list[np.ndarray], valid: np.n
     for u, du in enumerate(options):
         for v, dv in enumerate(options):
             sel = np.nonzero(valid[u][ii] & valid[v][jj])[0]
-            hit = motion_collides(kin, (0.0, 0.0), pos[ii[sel]], du, kin, off, pos[jj[sel]], dv,
+            hit = motion_collides(problem.kin(a), (0.0, 0.0), pos[ii[sel]], du, problem.kin(b), off, pos[jj[sel]], dv,
                                   problem.buffers[a] + problem.buffers[b])
             flat = np.zeros(n * n, dtype=bool)
             flat[sel] = ~hit

@@ -39,7 +39,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.collision import DEFAULT_TOL, motion_collides
+from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
 from .descent import motion_free
@@ -74,8 +74,8 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
                 qa = np.array(qs)
                 dq = np.array([at.get(q, np.zeros(nj, dtype=np.int64)) for q in qs])
                 start_q = np.array([cur[q] - at[q] if q in at else cur[q] for q in qs])
-                hit = motion_collides(kin, problem.bases[p], start_p, dp, kin, problem.bases[qa], start_q, dq,
-                                      bsum[p] + bsum[qa], tol)
+                hit = robots_motion_collides(problem.kins, p, problem.bases[p], start_p, dp, qa, problem.bases[qa],
+                                             start_q, dq, bsum[p] + bsum[qa], tol)
                 if hit.any():
                     s = s_min + 1
             else:

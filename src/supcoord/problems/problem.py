@@ -36,6 +36,7 @@ from ..geometry.collision import CollisionTables, colliding_pairs, neighbour_pai
 from ..geometry.instruments import PRESETS
 from ..geometry.kinematics import Kinematics, _is_int, kinematics_from_spec
 from ..geometry.layout import _finite_number, _short, layout_from_spec
+from .targets import parse_positions, robot_lattices
 
 __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
            "KNOWN_FIELDS"]
@@ -52,8 +53,8 @@ KNOWN_FIELDS = {
     "layout/hex": ("kind", "rings", "pitch"),
     "layout/points": ("kind", "xy"),
     "kinematics/rotary": ("kind", "arm", "steps"),
-    "kinematics/alpha-beta": ("kind", "alpha", "beta", "alpha_steps", "beta_steps", "beta_range"),
-    "collision": ("buffer",),
+    "kinematics/alpha-beta": ("kind", "alpha", "beta", "alpha_steps", "beta_steps", "beta_range", "alpha_range"),
+    "collision": ("buffer", "margin"),
 }
 
 
@@ -73,44 +74,95 @@ class Problem:
     warnings: list[str] = field(default_factory=list)
     _tables: CollisionTables | None = field(default=None, repr=False)
     _pairs: np.ndarray | None = field(default=None, repr=False)
+    #: per-robot kinematics (each robot's own lattice and arms), ``None``: every robot is ``kinematics``
+    robot_kinematics: list[Kinematics] | None = field(default=None, repr=False)
+    #: fixed obstacles: segments ``(M, 2, 2)`` in the focal plane (mm; a point is a zero-length
+    #: segment) and their buffers ``(M,)``; a robot collides with one when
+    #: ``dist(S_p, O) < r_p + r_O``
+    obstacles: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)), repr=False)
+    obstacle_buffers: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    #: the clearance margin (mm) the user asked for on top of the buffers: every pair needs
+    #: ``dist ≥ r_a + r_b + margin``, folded into :attr:`buffers` (each grown by ``margin/2``)
+    margin: float = 0.0
 
     @property
     def n(self) -> int:
         """Number of positioners."""
         return len(self.bases)
 
+    def kin(self, p: int) -> Kinematics:
+        """The kinematics of robot ``p``: its own lattice and arms where it has them, else
+        :attr:`kinematics` (which always holds the joints, steps and moves every robot shares)."""
+        return self.kinematics if self.robot_kinematics is None else self.robot_kinematics[p]
+
+    @property
+    def kins(self) -> Kinematics | list[Kinematics]:
+        """:attr:`kinematics` when every robot shares it, else the list of robots' kinematics."""
+        return self.kinematics if self.robot_kinematics is None else self.robot_kinematics
+
+    @property
+    def reaches(self) -> np.ndarray:
+        """Per robot, the farthest point of its colliding segment from its base (mm)."""
+        if self.robot_kinematics is None:
+            return np.full(self.n, self.kinematics.reach)
+        return np.array([k.reach for k in self.robot_kinematics], dtype=float)
+
+    def angles_deg(self, positions: Any) -> np.ndarray:
+        """Joint angles in degrees of (fractional) positions ``(..., N, J)``: each robot's own."""
+        q = np.asarray(positions, dtype=float)
+        if self.robot_kinematics is None:
+            return self.kinematics.joint_angles_deg(q)
+        out = np.empty(q.shape)
+        for p, k in enumerate(self.robot_kinematics):
+            out[..., p, :] = k.joint_angles_deg(q[..., p, :])
+        return out
+
+    def geometry_key(self, a: int, b: int) -> tuple:
+        """What the collision geometry of robots ``a`` and ``b`` depends on: their offset, buffer
+        sum and kinematics (:meth:`CollisionTables`' sharing key); equal keys, equal tables."""
+        off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
+        ids = self.tables()._ids
+        return (float(off[0]), float(off[1]), round(float(self.buffers[a] + self.buffers[b]), 9), int(ids[a]),
+                int(ids[b]))
+
     @property
     def pairs(self) -> np.ndarray:
         """Neighbour pairs ``(a, b)``, ``a < b`` (:func:`~supcoord.geometry.collision.neighbour_pairs`)."""
         if self._pairs is None:
-            self._pairs = neighbour_pairs(self.bases, self.kinematics.reach, self.buffers)
+            self._pairs = neighbour_pairs(self.bases, self.reaches, self.buffers)
         return self._pairs
 
     def tables(self) -> CollisionTables:
-        """The (lazily computed, shared-by-offset) static and swept tables of all neighbour pairs."""
+        """The (lazily computed) static and swept tables of all neighbour pairs, shared by
+        offset between pairs of identical robots."""
         if self._tables is None:
-            self._tables = CollisionTables(self.kinematics, self.bases, self.buffers)
+            self._tables = CollisionTables(self.kinematics, self.bases, self.buffers, kins=self.robot_kinematics)
         return self._tables
 
     def collisions(self, positions: Any) -> list[tuple[int, int, float]]:
         """Colliding pairs ``(a, b, distance)`` of a configuration ``(N, J)``."""
-        return colliding_pairs(self.kinematics, self.bases, self.buffers, positions, self.pairs)
+        return colliding_pairs(self.kins, self.bases, self.buffers, positions, self.pairs)
 
     def at_target(self, positions: Any) -> np.ndarray:
         return np.all(np.asarray(positions) == self.target, axis=-1)
 
     def to_json(self) -> dict:
-        buf = self.buffers
+        buf = self.buffers - self.margin / 2
         buffer: Any = float(buf[0]) if np.all(buf == buf[0]) else [float(v) for v in buf]
+        collision: dict[str, Any] = {"buffer": buffer}
+        if self.margin:
+            collision["margin"] = self.margin
         out = dict(self.extra)
-        out.update({
-            "layout": self.layout,
-            "kinematics": self.kinematics.to_json(),
-            "collision": {"buffer": buffer},
-            "start": [self.kinematics.position_to_json(q) for q in self.start],
-            "target": [self.kinematics.position_to_json(q) for q in self.target],
-            "priority": [int(p) for p in self.priority],
-        })
+        out.update({"layout": self.layout, "kinematics": self.kinematics.to_json(), "collision": collision})
+        for name, conf in (("start", self.start), ("target", self.target)):
+            if self.robot_kinematics is None:
+                out[name] = [self.kinematics.position_to_json(q) for q in conf]
+            else:  # the exact angles each robot's lattice holds
+                ang = self.angles_deg(conf)
+                if self.kinematics.joints[0].wraps:
+                    ang[..., 0] %= 360.0
+                out[name] = {"alpha_beta_deg": ang.tolist()}
+        out["priority"] = [int(p) for p in self.priority]
         return out
 
     def dump(self, path: str | Path) -> None:
@@ -181,8 +233,22 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
         raise InputError(f"layout has {n} positioners, more than the supported {MAX_POSITIONERS}", value=n, where=where)
     kin = kinematics_from_spec(data["kinematics"], where)
     buffers = _buffers(data["collision"], n, where)
-    start = _configuration(data["start"], "start", n, kin, where)
-    target = _configuration(data["target"], "target", n, kin, where)
+    margin = _margin(data["collision"], where)
+    start = parse_positions(data["start"], "start", n, kin, bases, where)
+    target = parse_positions(data["target"], "target", n, kin, bases, where)
+    robot_kins = None
+    if not (isinstance(start, np.ndarray) and isinstance(target, np.ndarray)):
+        try:
+            robot_kins, start, target = robot_lattices(kin, start, target)  # type: ignore[arg-type]
+        except InputError as exc:
+            raise InputError(exc.message, value=exc.value, where=where) from None
+    for name in ("offline",):
+        if name in data:
+            raise InputError(f"field '{name}' (robots fixed in place) is not supported by this version: leave it out "
+                             f"and give those robots' start and target equal", value=name, where=where)
+    if isinstance(data["layout"], dict) and "obstacles" in data["layout"]:
+        raise InputError("layout.obstacles (fixed obstacles) is not supported by this version", value="obstacles",
+                         where=where)
     priority = _priority(data.get("priority"), n, where)
     layout = dict(data["layout"])
     if layout.get("kind") == "points":
@@ -190,8 +256,8 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
     else:
         layout = {"kind": "hex", "rings": int(layout["rings"]), "pitch": float(layout["pitch"])}
     extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
-    problem = Problem(layout, kin, bases, buffers, start, target, priority, where, extra,
-                      _unknown_fields(data, where))
+    problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
+                      _unknown_fields(data, where), robot_kinematics=robot_kins, margin=margin)
     if check_collisions:
         for name, conf in (("start", start), ("target", target)):
             hits = problem.collisions(conf)
@@ -200,7 +266,7 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
                 more = f" (and {len(hits) - 1} more colliding pairs)" if len(hits) > 1 else ""
                 raise InputError(
                     f"{name} configuration collides: positioners {a} and {b} are {d:.3f} mm apart, "
-                    f"less than their buffers' sum {buffers[a] + buffers[b]:.3f} mm{more}",
+                    f"less than their buffers' sum {problem.buffers[a] + problem.buffers[b]:.3f} mm{more}",
                     value=[a, b], where=where)
     return problem
 
@@ -222,14 +288,12 @@ def _buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
     return np.broadcast_to(np.asarray(values, float), (n,)).copy()
 
 
-def _configuration(value: Any, name: str, n: int, kin: Kinematics, where: str | None) -> np.ndarray:
-    if not isinstance(value, list):
-        raise FormatError(f"{name} must be a list of {n} positions, got {_short(value)}", value=value, where=where)
-    if len(value) != n:
-        raise FormatError(f"{name} has {len(value)} positions but the layout has {n} positioners",
-                          value=len(value), where=where)
-    rows = [kin.position_from_json(v, f"{name}[{i}]", where) for i, v in enumerate(value)]
-    return np.array(rows, dtype=int).reshape(n, kin.n_joints)
+def _margin(spec: Any, where: str | None) -> float:
+    """``collision.margin`` (mm, default 0): clearance asked for on top of the buffers."""
+    m = spec.get("margin", 0.0) if isinstance(spec, dict) else 0.0
+    if not _finite_number(m) or not 0 <= m <= 1e6:
+        raise InputError(f"collision.margin must be a number of mm in [0, 1e6], got {_short(m)}", value=m, where=where)
+    return float(m)
 
 
 def _priority(value: Any, n: int, where: str | None) -> list[int]:

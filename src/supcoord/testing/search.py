@@ -121,7 +121,8 @@ def _simultaneous_full(problem: Problem, k: int, options: list[np.ndarray], nxt:
     for u, du in enumerate(options):
         for v, dv in enumerate(options):
             sel = ok[u][ii] & ok[v][jj]
-            hit = motion_collides(kin, problem.bases[a], pos[ii[sel]], du, kin, problem.bases[b], pos[jj[sel]], dv,
+            hit = motion_collides(problem.kin(a), problem.bases[a], pos[ii[sel]], du, problem.kin(b), problem.bases[b],
+                                  pos[jj[sel]], dv,
                                   bsum)
             block = np.ones(n * n, dtype=bool)
             block[np.nonzero(sel)[0]] = hit

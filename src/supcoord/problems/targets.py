@@ -1,0 +1,154 @@
+"""Starts and targets as users have them: joint angles or fibre positions, held exactly.
+
+A PROBLEM.json ``start`` or ``target`` is a list of discrete positions (indices into the
+kinematics' lattice), or (``docs/formats.md``, extensions for real instruments)
+
+- ``{"alpha_beta_deg": [[α, β], ...]}``: joint angles in degrees, one pair per robot;
+- ``{"xy_mm": [[x, y], ...], "handedness": "right" | "left" | "any"}``: fibre positions
+  in the focal plane (mm), turned into joint angles by inverse kinematics
+  (:meth:`~supcoord.geometry.kinematics.AlphaBeta.inverse_deg`): ``right`` is the elbow
+  solution with the fibre turned counter-clockwise from the alpha arm (``β + φ_f`` in
+  [0°, 180°], SDSS-V's working range), ``left`` the other, ``any`` (the default) the
+  first of them inside the joint ranges.
+
+**No snapping.**  When a start or target is given by angles, every robot gets its own
+lattice (:func:`~supcoord.geometry.kinematics.exact_lattice`): the shared uniform
+positions, with the ones nearest to the robot's start and target angles replaced by those
+angles exactly.  The plan then starts and ends at the exact angles, and every verdict
+(a plan, or a certificate that none exists) is about robots moving along their own
+lattices: at most two uniform steps per move, each joint turning linearly between
+neighbouring positions.
+
+Every mistake is one line naming the field, the robot and the value: an angle outside a
+joint's range, a fibre position out of a robot's reach (with the distance and the reachable
+annulus), a handedness whose solution leaves the beta range.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import FormatError, InputError
+from ..geometry.kinematics import AlphaBeta, Kinematics, exact_lattice
+from ..geometry.layout import _finite_number, _short
+
+__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "robot_lattices"]
+
+#: the object forms of a start or target (besides a list of indices)
+ANGLE_FORMS = ("alpha_beta_deg", "xy_mm")
+HANDEDNESS = ("right", "left", "any")
+
+
+def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.ndarray,
+                    where: str | None) -> np.ndarray | list[tuple[float, float]]:
+    """A start or target: ``(n, J)`` index positions, or ``n`` exact ``(α, β)`` in degrees."""
+    if isinstance(value, list):
+        if len(value) != n:
+            raise FormatError(f"{name} has {len(value)} positions but the layout has {n} positioners",
+                              value=len(value), where=where)
+        rows = [kin.position_from_json(v, f"{name}[{i}]", where) for i, v in enumerate(value)]
+        return np.array(rows, dtype=int).reshape(n, kin.n_joints)
+    if not isinstance(value, dict):
+        raise FormatError(f"{name} must be a list of {n} positions or an object with 'alpha_beta_deg' or "
+                          f"'xy_mm', got {_short(value)}", value=value, where=where)
+    forms = [k for k in ANGLE_FORMS if k in value]
+    extra = sorted(set(value) - set(ANGLE_FORMS) - {"handedness"})
+    if len(forms) != 1 or extra:
+        raise FormatError(f"{name} must hold exactly one of 'alpha_beta_deg' or 'xy_mm' (and 'handedness' with "
+                          f"'xy_mm'), got the fields {sorted(value)}", value=sorted(value), where=where)
+    if not isinstance(kin, AlphaBeta):
+        raise InputError(f"{name}.{forms[0]} needs alpha-beta kinematics, got {kin.kind!r}", value=kin.kind,
+                         where=where)
+    form = forms[0]
+    rows = value[form]
+    if not isinstance(rows, list) or len(rows) != n:
+        got = f"{len(rows)} entries" if isinstance(rows, list) else _short(rows)
+        raise FormatError(f"{name}.{form} must be a list of {n} pairs, got {got}", value=rows, where=where)
+    for i, r in enumerate(rows):
+        if not (isinstance(r, list) and len(r) == 2 and all(_finite_number(v) for v in r)):
+            raise FormatError(f"{name}.{form}[{i}] must be a pair of finite numbers, got {_short(r)}", value=r,
+                              where=where)
+    if form == "alpha_beta_deg":
+        if "handedness" in value:
+            raise FormatError(f"{name}.handedness applies to 'xy_mm' only", value=value["handedness"], where=where)
+        return [_in_ranges(kin, float(a), float(b), f"{name}.alpha_beta_deg[{i}]", where)
+                for i, (a, b) in enumerate(rows)]
+    hand = value.get("handedness", "any")
+    if hand not in HANDEDNESS:
+        raise InputError(f"{name}.handedness must be one of {', '.join(HANDEDNESS)}, got {_short(hand)}", value=hand,
+                         where=where)
+    return [_inverse(kin, np.asarray(xy, float) - bases[i], hand, f"{name}.xy_mm[{i}]", xy, where)
+            for i, xy in enumerate(rows)]
+
+
+def _in_ranges(kin: AlphaBeta, a: float, b: float, field: str, where: str | None) -> tuple[float, float]:
+    """``(α, β)`` inside the joint ranges (a wrapping alpha taken into [0, 360)), or an error."""
+    if kin.alpha_range is None:
+        a = a % 360.0
+    else:
+        lo, hi = kin.alpha_range
+        if not lo <= a <= hi:
+            raise InputError(f"{field}: alpha {a:g} deg is outside the alpha range [{lo:g}, {hi:g}]", value=a,
+                             where=where)
+    lo, hi = kin.beta_range
+    if not lo <= b <= hi:
+        raise InputError(f"{field}: beta {b:g} deg is outside the beta range [{lo:g}, {hi:g}]", value=b, where=where)
+    return a, b
+
+
+def _shift_into(x: float, lo: float, hi: float) -> float | None:
+    """``x + 360k`` inside ``[lo, hi]``, or ``None``."""
+    k = math.ceil((lo - x) / 360.0)
+    y = x + 360.0 * k
+    return y if y <= hi else None
+
+
+def _inverse(kin: AlphaBeta, rel: np.ndarray, hand: str, field: str, xy: Any, where: str | None) -> tuple[float, float]:
+    sols = kin.inverse_deg(rel)
+    if not sols:
+        lo, hi = kin.fibre_radius_range()
+        raise InputError(f"{field}: fibre position {[float(v) for v in xy]} is {math.hypot(*rel):.3f} mm from the "
+                         f"robot's base, outside its reach [{lo:.3f}, {hi:.3f}] mm", value=xy, where=where)
+    options = sols[:1] if hand == "right" else sols[1:] if hand == "left" else sols
+    for a, b in options:
+        b2 = _shift_into(b, *kin.beta_range)
+        a2 = a if kin.alpha_range is None else _shift_into(a, *kin.alpha_range)
+        if a2 is not None and b2 is not None:
+            return a2, b2
+    a, b = options[0]
+    raise InputError(f"{field}: the {hand if hand != 'any' else 'either'}-handed solution (alpha {a:.3f}, beta "
+                     f"{b:.3f} deg) is outside the joint ranges (alpha {list(kin.alpha_range or (0, 360))}, beta "
+                     f"{list(kin.beta_range)})", value=xy, where=where)
+
+
+def robot_lattices(kin: AlphaBeta, start: Any, target: Any) -> tuple[list[AlphaBeta], np.ndarray, np.ndarray]:
+    """Each robot's own lattice holding its exact start and target angles (module docstring):
+    ``(kinematics per robot, start indices, target indices)``.  ``start``/``target`` are
+    index arrays or lists of exact ``(α, β)``; robots with equal lattices share one object."""
+    n = len(start)
+    wraps = kin.alpha_range is None
+    grids = (kin.lattice_deg(0), kin.lattice_deg(1))
+
+    def angles(conf: Any, p: int) -> tuple[float, float]:
+        if isinstance(conf, np.ndarray):
+            return tuple(float(v) for v in kin.joint_angles_deg(conf[p]))  # type: ignore[return-value]
+        return conf[p]
+
+    shared: dict[tuple, AlphaBeta] = {}
+    kins: list[AlphaBeta] = []
+    s_idx = np.zeros((n, 2), dtype=int)
+    t_idx = np.zeros((n, 2), dtype=int)
+    for p in range(n):
+        (sa, sb), (ta, tb) = angles(start, p), angles(target, p)
+        tab_a, (s_idx[p, 0], t_idx[p, 0]) = exact_lattice(grids[0], [sa, ta], wraps)
+        tab_b, (s_idx[p, 1], t_idx[p, 1]) = exact_lattice(grids[1], [sb, tb], False)
+        key = (tab_a.tobytes(), tab_b.tobytes())
+        if key not in shared:
+            shared[key] = AlphaBeta(kin.alpha, kin.beta, kin.alpha_steps, kin.beta_steps, kin.beta_range,
+                                    alpha_range=kin.alpha_range, alpha_deg=tab_a, beta_deg=tab_b,
+                                    segment=kin.segment, fibre_point=kin.fibre_point)
+        kins.append(shared[key])
+    return kins, s_idx, t_idx
