@@ -128,12 +128,12 @@ def test_bad_angles_are_one_line_errors(start, target, kin, error, needle):
     assert info.value.where == "p.json" and "\n" not in str(info.value)
 
 
-def test_rotary_has_no_angle_form_and_unsupported_fields_are_refused():
+def test_rotary_has_no_angle_forms():
     rot = {"kind": "rotary", "arm": 10.0, "steps": 8}
     with pytest.raises(InputError, match="start.alpha_beta_deg needs alpha-beta kinematics"):
         _problem({"alpha_beta_deg": FOLDED}, [0, 0, 0], rot)
-    with pytest.raises(InputError, match="'offline'.* not supported"):
-        _problem({"alpha_beta_deg": FOLDED}, {"alpha_beta_deg": SPREAD}, offline={"0": [10, 170]})
+    with pytest.raises(InputError, match="offline needs alpha-beta kinematics"):
+        _problem([0, 0, 0], [0, 0, 0], rot, offline={"0": [10, 170]})
 
 
 def test_alpha_hard_stops_do_not_wrap():

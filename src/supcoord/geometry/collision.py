@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from .kinematics import MAX_POSITIONS, Kinematics
+from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, turn_collides
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
@@ -222,67 +223,6 @@ def colliding_pairs(kin: Kinematics | list[Kinematics], bases: Any, buffers: Any
     return [(int(i), int(j), float(x)) for i, j, x in zip(a[bad], b[bad], d[bad])]
 
 
-def robot_reaches(kin: Kinematics | list[Kinematics], n: int) -> np.ndarray:
-    """Per robot, :attr:`Kinematics.reach` (``kin`` shared or one per robot)."""
-    if isinstance(kin, Kinematics):
-        return np.full(n, kin.reach)
-    return np.array([k.reach for k in kin], dtype=float)
-
-
-def intern_kinematics(kins: list[Kinematics] | None, n: int) -> tuple[list[Kinematics] | None, np.ndarray]:
-    """``(distinct, ids)``: each robot's kinematics as an index into the distinct ones (equal
-    :meth:`Kinematics.key`), so identical robots share tables; ``(None, zeros)`` without ``kins``."""
-    if kins is None:
-        return None, np.zeros(n, dtype=np.int64)
-    seen: dict[tuple, int] = {}
-    distinct: list[Kinematics] = []
-    ids = np.empty(n, dtype=np.int64)
-    for p, k in enumerate(kins):
-        key = k.key()
-        if key not in seen:
-            seen[key] = len(distinct)
-            distinct.append(k)
-        ids[p] = seen[key]
-    return distinct, ids
-
-
-def robot_segments(kin: Kinematics | list[Kinematics], bases: Any, positions: Any) -> np.ndarray:
-    """Colliding segments in the focal plane of robots at (fractional) ``positions``
-    ``(..., N, J)``: ``(..., N, 2, 2)``; ``kin`` shared or one per robot (grouped by key)."""
-    if isinstance(kin, Kinematics):
-        return placed_segments(kin, bases, positions)
-    bases = np.asarray(bases, float)
-    q = np.asarray(positions)
-    distinct, ids = intern_kinematics(kin, len(bases))
-    out = np.empty(q.shape[:-1] + (2, 2))
-    for u, k in enumerate(distinct):
-        idx = np.nonzero(ids == u)[0]
-        out[..., idx, :, :] = placed_segments(k, bases[idx], q[..., idx, :])
-    return out
-
-
-def robots_motion_collides(kin: Kinematics | list[Kinematics], a: Any, base_a: Any, qa: Any, da: Any,
-                           b: Any, base_b: Any, qb: Any, db: Any, bsum: Any, tol: float = DEFAULT_TOL) -> np.ndarray:
-    """:func:`motion_collides` for entries of robots ``a[e]`` and ``b[e]`` (``(E,)`` ints; the
-    other arrays ``(E, …)``), each with its own kinematics (``kin`` shared or one per robot)."""
-    if isinstance(kin, Kinematics):
-        return motion_collides(kin, base_a, qa, da, kin, base_b, qb, db, bsum, tol)
-    a, b = np.atleast_1d(np.asarray(a)), np.atleast_1d(np.asarray(b))
-    e = np.broadcast_shapes(a.shape, b.shape)
-    a, b = np.broadcast_to(a, e), np.broadcast_to(b, e)
-    arrays = [np.broadcast_to(np.asarray(x, float), e + np.shape(x)[-1:]) for x in (base_a, qa, da, base_b, qb, db)]
-    bsum = np.broadcast_to(np.asarray(bsum, float), e)
-    distinct, ids = intern_kinematics(kin, len(kin))
-    groups: dict[tuple[int, int], list[int]] = {}
-    for i, (x, y) in enumerate(zip(ids[a].tolist(), ids[b].tolist())):
-        groups.setdefault((x, y), []).append(i)
-    out = np.zeros(e, dtype=bool)
-    for (x, y), sel in groups.items():
-        ba, pa, ea, bb, pb, eb = (v[sel] for v in arrays)
-        out[sel] = motion_collides(distinct[x], ba, pa, ea, distinct[y], bb, pb, eb, bsum[sel], tol)
-    return out
-
-
 class CollisionTables:
     """Static and swept tables of every neighbour pair of one layout, computed on demand.
 
@@ -292,15 +232,27 @@ class CollisionTables:
     computations; robots with their own lattices or arms (``kins``, one per robot) have
     their own.  ``pairs[k] = (a, b)``; ``static(k)[i, j]`` and ``swept(k, mover)[m, i, j]``
     index positions of ``a`` by ``i`` and of ``b`` by ``j``.
+
+    ``unary[p] = (U, V)`` (:mod:`.obstacles`: fixed obstacles, robots held in place) is folded
+    into every table of ``p``'s pairs: ``T ∨ U_a[i] ∨ U_b[j]``, a move ``m`` of ``a`` blocked
+    where ``V_a[m, i] ∨ U_b[j]`` (and likewise for ``b``), so whoever reads the tables
+    honours them.  Such robots have tables of their own.
     """
 
     def __init__(self, kin: Kinematics, bases: Any, buffers: Any, tol: float = DEFAULT_TOL,
-                 kins: list[Kinematics] | None = None):
+                 kins: list[Kinematics] | None = None, unary: dict[int, tuple[np.ndarray, np.ndarray]] | None = None):
         self.kin = kin
         self.bases = np.asarray(bases, float)
         self.buffers = np.broadcast_to(np.asarray(buffers, float), (len(self.bases),)).copy()
         self.tol = tol
         self._distinct, self._ids = intern_kinematics(kins, len(self.bases))
+        self.unary = dict(unary or {})
+        self._own: dict[int, Kinematics] = {}  # table ids of robots with unary tables
+        if self.unary:
+            first = int(self._ids.max(initial=-1)) + 1
+            for p in sorted(self.unary):
+                self._own[first + p] = kin if kins is None else kins[p]
+                self._ids[p] = first + p
         self.pairs = neighbour_pairs(self.bases, robot_reaches(kins if kins is not None else kin, len(self.bases)),
                                      self.buffers)
         self._static: dict[tuple, np.ndarray] = {}
@@ -308,7 +260,13 @@ class CollisionTables:
         self._dist: dict[tuple, np.ndarray] = {}
 
     def _kin(self, u: int) -> Kinematics:
+        if u in self._own:
+            return self._own[u]
         return self.kin if self._distinct is None else self._distinct[u]
+
+    def _unary(self, k: int) -> tuple[tuple | None, tuple | None]:
+        a, b = (int(v) for v in self.pairs[k])
+        return self.unary.get(a), self.unary.get(b)
 
     def _key(self, k: int) -> tuple:
         a, b = self.pairs[k]
@@ -320,7 +278,13 @@ class CollisionTables:
         key = self._key(k)
         if key not in self._static:
             off, bsum, ua, ub = key
-            self._static[key] = self._distances(off, ua, ub) < bsum
+            table = self._distances(off, ua, ub) < bsum
+            fa, fb = self._unary(k)
+            if fa is not None:
+                table = table | fa[0][:, None]
+            if fb is not None:
+                table = table | fb[0][None, :]
+            self._static[key] = table
         return self._static[key]
 
     def _distances(self, offset: tuple[float, float], ua: int = 0, ub: int = 0) -> np.ndarray:
@@ -339,8 +303,14 @@ class CollisionTables:
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
             if mirror in self._swept:  # b moving past a at offset o is a moving past b at −o
                 return np.swapaxes(self._swept[mirror], 1, 2)
-            self._swept[key] = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
-                                           distances=self._distances((ox, oy), ua, ub))
+            table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
+                                distances=self._distances((ox, oy), ua, ub))
+            fa, fb = self._unary(k)
+            if mover == 0:
+                table |= (fa[1][:, :, None] if fa is not None else False) | (fb[0][None, None, :] if fb is not None else False)
+            else:
+                table |= (fb[1][:, None, :] if fb is not None else False) | (fa[0][None, :, None] if fa is not None else False)
+            self._swept[key] = table
         return self._swept[key]
 
     def simultaneous(self, k: int) -> np.ndarray:
@@ -351,8 +321,14 @@ class CollisionTables:
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, "sim")
             if mirror in self._swept:  # S_{-o}[v, u, j, i] = S_o[u, v, i, j]
                 return np.transpose(self._swept[mirror], (1, 0, 3, 2))
-            self._swept[key] = simultaneous_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, self.tol,
-                                                  distances=self._distances((ox, oy), ua, ub), kin_b=self._kin(ub))
+            table = simultaneous_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, self.tol,
+                                       distances=self._distances((ox, oy), ua, ub), kin_b=self._kin(ub))
+            fa, fb = self._unary(k)
+            if fa is not None:  # standing: U; move u: V[u − 1]
+                table |= np.concatenate([fa[0][None], fa[1]])[:, None, :, None]
+            if fb is not None:
+                table |= np.concatenate([fb[0][None], fb[1]])[None, :, None, :]
+            self._swept[key] = table
         return self._swept[key]
 
     def neighbours_of(self, p: int) -> list[tuple[int, int, int]]:

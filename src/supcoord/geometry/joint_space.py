@@ -22,7 +22,13 @@ import numpy as np
 from ..errors import FormatError, InputError
 from .layout import _short
 
-__all__ = ["Joint", "Kinematics"]
+__all__ = ["Joint", "Kinematics", "MAX_LENGTH", "MAX_POSITIONS"]
+
+#: longest arm accepted (mm); anything longer is a unit mistake
+MAX_LENGTH = 1e6
+#: most positions of one positioner: a pair's collision tables hold positions² entries, and
+#: :data:`supcoord.geometry.collision.MAX_TABLE_ENTRIES` is ``MAX_POSITIONS²`` (5·10⁷)
+MAX_POSITIONS = 7071
 
 
 @dataclass(frozen=True)

@@ -135,6 +135,12 @@ def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: 
 
 def _compatible(T: _Lookups, c: np.ndarray, chosen: dict[int, list], p: int, mp: list, tol: float) -> bool:
     problem = T.problem
+    if len(mp) > 1:  # several joints at once: the robot's own constraints (obstacles, held)
+        dp = np.zeros(T.kin.n_joints, dtype=np.int64)
+        for jj, d in mp:
+            dp[jj] = d
+        if problem.own_motion_blocked(p, c[p], dp, tol)[0]:
+            return False
     for k, q, side in T.adj[p]:  # (1): both orders, every subset
         mq = chosen.get(q, [])
         if not _serialisable(T, k, side, c[p], mp, c[q], mq):

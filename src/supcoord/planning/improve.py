@@ -113,6 +113,17 @@ class _Replanner:
     def allowed_mask(self, r: int, t: int, u: int) -> np.ndarray:
         """Positions ``i`` of ``r`` from which option ``u`` during step ``t`` is free against all neighbours."""
         ok = self.nxt[u] >= 0
+        unary = self.problem.unary().get(r)
+        if unary is not None and u < self.n_single:  # r's own constraints (obstacles, held)
+            ok = ok & ~(unary[0] if u == 0 else unary[1][u - 1])
+        elif unary is not None:  # several joints at once
+            key = ("own", r, u)
+            if key not in self.merged_cache:
+                own = np.ones(len(self.pos), dtype=bool)
+                sel = np.nonzero(ok)[0]
+                own[sel] = self.problem.own_motion_blocked(r, self.pos[sel], self.deltas[u])
+                self.merged_cache[key] = own
+            ok = ok & ~self.merged_cache[key]
         for k, q, side in self.nbrs[r]:
             if q in self.absent:
                 continue

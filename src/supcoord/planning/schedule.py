@@ -70,7 +70,9 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
             dp[joint] += d
             start_p = cur[p] - at[p] if p in at else cur[p]
             qs = nbrs[p]
-            if qs:
+            if p in at and problem.own_motion_blocked(p, start_p, dp, tol)[0]:
+                s = s_min + 1  # several joints at once past a fixed obstacle
+            elif qs:
                 qa = np.array(qs)
                 dq = np.array([at.get(q, np.zeros(nj, dtype=np.int64)) for q in qs])
                 start_q = np.array([cur[q] - at[q] if q in at else cur[q] for q in qs])
@@ -202,6 +204,8 @@ class _Placer:
     def fits(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
         """Both conditions of :func:`timeline_schedule` for ``p`` moving ``x → x_end`` (by
         ``dp``) during step ``s``."""
+        if np.count_nonzero(dp) > 1 and self.problem.own_motion_blocked(p, x, dp, self.tol)[0]:
+            return False
         for k, q, side in self.pair_nbrs[p]:
             t = self.tl[q]
             i, y, dq = t.at(s)

@@ -32,11 +32,14 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from ..outputs import atomic_write_text
-from ..geometry.collision import CollisionTables, colliding_pairs, neighbour_pairs
-from ..geometry.instruments import PRESETS
-from ..geometry.kinematics import Kinematics, _is_int, kinematics_from_spec
-from ..geometry.layout import _finite_number, _short, layout_from_spec
-from .targets import parse_positions, robot_lattices
+from ..geometry.collision import DEFAULT_TOL, CollisionTables, colliding_pairs, neighbour_pairs
+from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tables, unary_tables
+from ..geometry.kinematics import Kinematics, kinematics_from_spec
+from ..geometry.layout import _short, layout_from_spec
+from .instrument import instrument_setup
+from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
+                     _unknown_fields)
+from .targets import parse_offline, parse_positions, robot_lattices, with_angles
 
 __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
            "KNOWN_FIELDS"]
@@ -45,19 +48,6 @@ __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIO
 MAX_POSITIONERS = 20_000
 #: largest PROBLEM.json read (bytes): 20,000 positioners with every field take about 2 MB
 MAX_PROBLEM_BYTES = 64 * 2**20
-#: top-level fields kept as they are (descriptive, or the preset that filled the file in)
-EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
-#: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
-KNOWN_FIELDS = {
-    "": ("layout", "kinematics", "collision", "start", "target", "priority") + EXTRA_FIELDS,
-    "layout/hex": ("kind", "rings", "pitch"),
-    "layout/points": ("kind", "xy"),
-    "kinematics/rotary": ("kind", "arm", "steps"),
-    "kinematics/alpha-beta": ("kind", "alpha", "beta", "alpha_steps", "beta_steps", "beta_range", "alpha_range"),
-    "collision": ("buffer", "margin"),
-}
-
-
 @dataclass(eq=False)
 class Problem:
     """A validated coordination problem; positions are ``(N, J)`` int arrays."""
@@ -84,6 +74,12 @@ class Problem:
     #: the clearance margin (mm) the user asked for on top of the buffers: every pair needs
     #: ``dist ≥ r_a + r_b + margin``, folded into :attr:`buffers` (each grown by ``margin/2``)
     margin: float = 0.0
+    #: robots held in place (offline): robot → its position; they never move
+    held: dict[int, tuple[int, ...]] = field(default_factory=dict, repr=False)
+    #: joint-space rules of the instrument: robot → ``(c0, c1)``, positions with commanded
+    #: ``β < c0 + c1·α`` (degrees) are forbidden (kaiju's rule for robots beside a fiducial)
+    joint_rules: dict[int, tuple[float, float]] = field(default_factory=dict, repr=False)
+    _unary: dict | None = field(default=None, repr=False)
 
     @property
     def n(self) -> int:
@@ -134,10 +130,56 @@ class Problem:
 
     def tables(self) -> CollisionTables:
         """The (lazily computed) static and swept tables of all neighbour pairs, shared by
-        offset between pairs of identical robots."""
+        offset between pairs of identical robots, with every robot's :meth:`unary` tables
+        folded in."""
         if self._tables is None:
-            self._tables = CollisionTables(self.kinematics, self.bases, self.buffers, kins=self.robot_kinematics)
+            self._tables = CollisionTables(self.kinematics, self.bases, self.buffers, kins=self.robot_kinematics,
+                                           unary=self.unary())
         return self._tables
+
+    def unary(self) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+        """``p → (U, V)`` for every robot near a fixed obstacle, under a joint rule or held in
+        place (:mod:`supcoord.geometry.obstacles`): positions and single moves refused
+        whatever the other robots do."""
+        if self._unary is None:
+            out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+            for p in range(self.n):
+                kin = self.kin(p)
+                parts = []
+                if len(self.obstacles):
+                    t = unary_tables(kin, self.bases[p], float(self.buffers[p]), self.obstacles, self.obstacle_buffers)
+                    if t is not None:
+                        parts.append(t)
+                if p in self.joint_rules:
+                    parts.append(rule_tables(kin, *self.joint_rules[p]))
+                if p in self.held:
+                    parts.append(held_tables(kin, self.held[p]))
+                if parts:
+                    out[p] = (np.logical_or.reduce([u for u, _ in parts]), np.logical_or.reduce([v for _, v in parts]))
+            self._unary = out
+        return self._unary
+
+    def own_motion_blocked(self, p: int, q0: Any, delta: Any, tol: float | None = None) -> np.ndarray:
+        """Is robot ``p``'s motion ``q0 + t·delta`` (``(E, J)``, several joints at once) refused
+        by its :meth:`unary` constraints (held, a joint rule or an obstacle on the way)?"""
+        q0 = np.atleast_2d(np.asarray(q0, dtype=np.int64))
+        delta = np.broadcast_to(np.atleast_2d(np.asarray(delta, dtype=np.int64)), q0.shape)
+        if p not in self.unary():
+            return np.zeros(len(q0), dtype=bool)
+        kin = self.kin(p)
+        end = kin.wrap(q0 + delta)
+        ok = kin.in_range(end)
+        U = self.unary()[p][0]
+        hit = ~ok
+        hit[ok] = U[kin.flat_index(q0[ok])] | U[kin.flat_index(end[ok])]
+        if p in self.held:
+            hit |= np.any(delta != 0, axis=1)
+        todo = np.nonzero(~hit)[0]
+        if len(todo) and len(self.obstacles):
+            hit[todo] = obstacle_motion_collides(kin, self.bases[p], q0[todo], delta[todo], float(self.buffers[p]),
+                                                 self.obstacles, self.obstacle_buffers,
+                                                 DEFAULT_TOL if tol is None else tol)
+        return hit
 
     def collisions(self, positions: Any) -> list[tuple[int, int, float]]:
         """Colliding pairs ``(a, b, distance)`` of a configuration ``(N, J)``."""
@@ -153,7 +195,10 @@ class Problem:
         if self.margin:
             collision["margin"] = self.margin
         out = dict(self.extra)
-        out.update({"layout": self.layout, "kinematics": self.kinematics.to_json(), "collision": collision})
+        kinematics = self.kinematics.to_json()
+        if self.layout.get("kind") == "instrument":  # the arms are the instrument's, measured per robot
+            kinematics = {k: v for k, v in kinematics.items() if k not in ("alpha", "beta")}
+        out.update({"layout": self.layout, "kinematics": kinematics, "collision": collision})
         for name, conf in (("start", self.start), ("target", self.target)):
             if self.robot_kinematics is None:
                 out[name] = [self.kinematics.position_to_json(q) for q in conf]
@@ -163,6 +208,9 @@ class Problem:
                     ang[..., 0] %= 360.0
                 out[name] = {"alpha_beta_deg": ang.tolist()}
         out["priority"] = [int(p) for p in self.priority]
+        if self.held:
+            ang = self.angles_deg(self.start)
+            out["offline"] = {str(p): [float(v) for v in ang[p]] for p in sorted(self.held)}
         return out
 
     def dump(self, path: str | Path) -> None:
@@ -224,40 +272,54 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
     if not isinstance(data, dict):
         raise FormatError(f"a problem must be a JSON object, got {_short(data)}", value=data, where=where)
     data = _apply_preset(data, where)
-    for key in ("layout", "kinematics", "collision", "start", "target"):
+    layout_spec = data.get("layout")
+    instrument = isinstance(layout_spec, dict) and layout_spec.get("kind") == "instrument"
+    for key in ("layout", "start", "target") if instrument else ("layout", "kinematics", "collision", "start", "target"):
         if key not in data:
             raise FormatError(f"required field '{key}' is missing", value=None, where=where)
-    bases = layout_from_spec(data["layout"], where)
+    setup = instrument_setup(layout_spec, data, where) if instrument else None
+    bases = setup.bases if setup else layout_from_spec(layout_spec, where)
     n = len(bases)
     if n > MAX_POSITIONERS:
         raise InputError(f"layout has {n} positioners, more than the supported {MAX_POSITIONERS}", value=n, where=where)
-    kin = kinematics_from_spec(data["kinematics"], where)
-    buffers = _buffers(data["collision"], n, where)
-    margin = _margin(data["collision"], where)
-    start = parse_positions(data["start"], "start", n, kin, bases, where)
-    target = parse_positions(data["target"], "target", n, kin, bases, where)
-    robot_kins = None
+    kin = setup.kinematics if setup else kinematics_from_spec(data["kinematics"], where)
+    base_kins = setup.robots if setup else None
+    collision = data.get("collision", {"buffer": setup.buffer} if setup else None)
+    if setup and isinstance(collision, dict) and "buffer" not in collision:
+        collision = dict(collision, buffer=setup.buffer)
+    buffers = _buffers(collision, n, where)
+    margin = _margin(collision, where)
+    start = parse_positions(data["start"], "start", n, kin, bases, where, base_kins)
+    target = parse_positions(data["target"], "target", n, kin, bases, where, base_kins)
+    held = parse_offline(data.get("offline"), n, kin, where, base_kins)
+    if held:  # an offline robot stands at its angles from start to target
+        start, target = (with_angles(c, held, kin, base_kins) for c in (start, target))
+    robot_kins = base_kins
     if not (isinstance(start, np.ndarray) and isinstance(target, np.ndarray)):
         try:
-            robot_kins, start, target = robot_lattices(kin, start, target)  # type: ignore[arg-type]
+            robot_kins, start, target = robot_lattices(kin, start, target, base_kins)  # type: ignore[arg-type]
         except InputError as exc:
             raise InputError(exc.message, value=exc.value, where=where) from None
-    for name in ("offline",):
-        if name in data:
-            raise InputError(f"field '{name}' (robots fixed in place) is not supported by this version: leave it out "
-                             f"and give those robots' start and target equal", value=name, where=where)
-    if isinstance(data["layout"], dict) and "obstacles" in data["layout"]:
-        raise InputError("layout.obstacles (fixed obstacles) is not supported by this version", value="obstacles",
-                         where=where)
-    priority = _priority(data.get("priority"), n, where)
-    layout = dict(data["layout"])
-    if layout.get("kind") == "points":
-        layout = {"kind": "points", "xy": bases.tolist()}
+    if setup:
+        obstacles, obstacle_buffers = setup.obstacles, setup.obstacle_buffers
     else:
-        layout = {"kind": "hex", "rings": int(layout["rings"]), "pitch": float(layout["pitch"])}
+        obstacles, obstacle_buffers = _obstacles(layout_spec, where)
+    priority = _priority(data.get("priority"), n, where)
+    if setup:
+        layout = setup.layout
+    elif layout_spec.get("kind") == "points":
+        layout = {"kind": "points", "xy": bases.tolist()}
+        if len(obstacles):
+            layout["obstacles"] = [{"xy": o[0].tolist(), "buffer": float(r)} if np.array_equal(o[0], o[1]) else
+                                   {"segment": o.tolist(), "buffer": float(r)} for o, r in zip(obstacles, obstacle_buffers)]
+    else:
+        layout = {"kind": "hex", "rings": int(layout_spec["rings"]), "pitch": float(layout_spec["pitch"])}
     extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
     problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
-                      _unknown_fields(data, where), robot_kinematics=robot_kins, margin=margin)
+                      _unknown_fields(data, where), robot_kinematics=robot_kins, margin=margin,
+                      obstacles=obstacles, obstacle_buffers=obstacle_buffers + margin / 2,
+                      held={p: tuple(int(v) for v in start[p]) for p in held},
+                      joint_rules=setup.joint_rules if setup else {})
     if check_collisions:
         for name, conf in (("start", start), ("target", target)):
             hits = problem.collisions(conf)
@@ -268,88 +330,5 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
                     f"{name} configuration collides: positioners {a} and {b} are {d:.3f} mm apart, "
                     f"less than their buffers' sum {problem.buffers[a] + problem.buffers[b]:.3f} mm{more}",
                     value=[a, b], where=where)
+            _check_fixed(problem, name, conf, where)
     return problem
-
-
-def _buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
-    if not isinstance(spec, dict) or "buffer" not in spec:
-        raise FormatError(f"collision must be an object with a 'buffer' (mm), got {_short(spec)}", value=spec, where=where)
-    buf = spec["buffer"]
-    if _finite_number(buf):
-        values = [buf]
-    elif isinstance(buf, list) and len(buf) == n and all(_finite_number(v) for v in buf):
-        values = buf
-    else:
-        raise FormatError(f"collision.buffer must be a number or a list of {n} numbers (mm), got {_short(buf)}",
-                          value=buf, where=where)
-    for v in values:
-        if not 0 <= v <= 1e6:
-            raise InputError(f"collision.buffer must be in [0, 1e6] mm, got {v}", value=v, where=where)
-    return np.broadcast_to(np.asarray(values, float), (n,)).copy()
-
-
-def _margin(spec: Any, where: str | None) -> float:
-    """``collision.margin`` (mm, default 0): clearance asked for on top of the buffers."""
-    m = spec.get("margin", 0.0) if isinstance(spec, dict) else 0.0
-    if not _finite_number(m) or not 0 <= m <= 1e6:
-        raise InputError(f"collision.margin must be a number of mm in [0, 1e6], got {_short(m)}", value=m, where=where)
-    return float(m)
-
-
-def _priority(value: Any, n: int, where: str | None) -> list[int]:
-    if value is None:
-        return list(range(1, n + 1))
-    if not isinstance(value, list) or len(value) != n:
-        got = f"{len(value)} entries" if isinstance(value, list) else _short(value)
-        raise FormatError(f"priority must be a list of {n} integers (smaller = higher priority), got {got}",
-                          value=value, where=where)
-    for i, v in enumerate(value):
-        if not _is_int(v):
-            raise FormatError(f"priority[{i}] must be an integer, got {_short(v)}", value=v, where=where)
-    return [int(v) for v in value]
-
-
-def _apply_preset(data: dict, where: str | None) -> dict:
-    """``data`` with the preset's numbers filled in where the file leaves them out (module docstring)."""
-    if "preset" not in data:
-        return data
-    name = data["preset"]
-    if not isinstance(name, str) or name.lower() not in PRESETS:
-        raise InputError(f"preset must be one of {', '.join(map(repr, PRESETS))}, got {_short(name)}",
-                         value=name, where=where)
-    pre = PRESETS[name.lower()]
-    out = dict(data)
-    layout = out.get("layout")
-    if isinstance(layout, dict) and layout.get("kind") == "hex" and "pitch" not in layout:
-        if pre.pitch is None:
-            raise FormatError(f"layout.pitch is missing and preset {pre.name!r} has no pitch in our sources: "
-                              f"give one (mm)", value=None, where=where)
-        out["layout"] = dict(layout, pitch=pre.pitch)
-    kin = out.get("kinematics", {})
-    if isinstance(kin, dict):
-        if kin.get("kind", "alpha-beta") != "alpha-beta":
-            raise InputError(f"preset {pre.name!r} describes alpha-beta positioners, got kinematics.kind "
-                             f"{_short(kin.get('kind'))}", value=kin.get("kind"), where=where)
-        defaults = {"kind": "alpha-beta", "alpha": pre.alpha, "beta": pre.beta, "beta_range": list(pre.beta_range)}
-        out["kinematics"] = dict(defaults, **kin)
-    coll = out.get("collision", {})
-    if isinstance(coll, dict):
-        out["collision"] = dict({"buffer": pre.buffer}, **coll)
-    return out
-
-
-def _unknown_fields(data: dict, where: str | None) -> list[str]:
-    """One warning per field that :data:`KNOWN_FIELDS` does not list (``_comment`` keys excepted)."""
-    prefix = f"{where}: " if where else ""
-    objects = [("", data)]
-    for key in ("layout", "kinematics"):
-        objects.append((f"{key}/{data[key].get('kind')}", data[key]))
-    objects.append(("collision", data["collision"]))
-    out = []
-    for name, obj in objects:
-        known = KNOWN_FIELDS[name]
-        for key in obj:
-            if key not in known and not str(key).startswith("_"):
-                field_name = f"{name.split('/')[0]}.{key}" if name else str(key)
-                out.append(f"{prefix}unknown field {field_name!r} ignored (known: {', '.join(known)})")
-    return out

@@ -35,16 +35,17 @@ from ..errors import FormatError, InputError
 from ..geometry.kinematics import AlphaBeta, Kinematics, exact_lattice
 from ..geometry.layout import _finite_number, _short
 
-__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "robot_lattices"]
+__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "parse_offline", "with_angles", "robot_lattices"]
 
 #: the object forms of a start or target (besides a list of indices)
 ANGLE_FORMS = ("alpha_beta_deg", "xy_mm")
 HANDEDNESS = ("right", "left", "any")
 
 
-def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.ndarray,
-                    where: str | None) -> np.ndarray | list[tuple[float, float]]:
-    """A start or target: ``(n, J)`` index positions, or ``n`` exact ``(α, β)`` in degrees."""
+def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.ndarray, where: str | None,
+                    robots: list[AlphaBeta] | None = None) -> np.ndarray | list[tuple[float, float]]:
+    """A start or target: ``(n, J)`` index positions, or ``n`` exact ``(α, β)`` in degrees
+    (``robots``: each robot's own kinematics, for its inverse kinematics)."""
     if isinstance(value, list):
         if len(value) != n:
             raise FormatError(f"{name} has {len(value)} positions but the layout has {n} positioners",
@@ -80,8 +81,44 @@ def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.nd
     if hand not in HANDEDNESS:
         raise InputError(f"{name}.handedness must be one of {', '.join(HANDEDNESS)}, got {_short(hand)}", value=hand,
                          where=where)
-    return [_inverse(kin, np.asarray(xy, float) - bases[i], hand, f"{name}.xy_mm[{i}]", xy, where)
-            for i, xy in enumerate(rows)]
+    return [_inverse(kin if robots is None else robots[i], np.asarray(xy, float) - bases[i], hand,
+                     f"{name}.xy_mm[{i}]", xy, where) for i, xy in enumerate(rows)]
+
+
+def parse_offline(value: Any, n: int, kin: Kinematics, where: str | None,
+                  robots: list[AlphaBeta] | None = None) -> dict[int, tuple[float, float]]:
+    """``"offline": {"robot index": [α, β], ...}``: robots held at those angles."""
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise FormatError(f"offline must be an object {{\"robot index\": [alpha, beta], ...}}, got {_short(value)}",
+                          value=value, where=where)
+    if not isinstance(kin, AlphaBeta):
+        raise InputError(f"offline needs alpha-beta kinematics, got {kin.kind!r}", value=kin.kind, where=where)
+    out = {}
+    for key, ab in value.items():
+        if not (isinstance(key, str) and key.isdigit() and int(key) < n):
+            raise InputError(f"offline: {_short(key)} is not a robot index in [0, {n - 1}]", value=key, where=where)
+        if not (isinstance(ab, list) and len(ab) == 2 and all(_finite_number(v) for v in ab)):
+            raise FormatError(f"offline.{key} must be [alpha, beta] in degrees, got {_short(ab)}", value=ab, where=where)
+        p = int(key)
+        out[p] = _in_ranges(kin if robots is None else robots[p], float(ab[0]), float(ab[1]), f"offline.{key}", where)
+    return out
+
+
+def with_angles(conf: Any, fixed: dict[int, tuple[float, float]], kin: AlphaBeta,
+                robots: list[AlphaBeta] | None = None) -> list[tuple[float, float]]:
+    """A start or target as exact angles per robot, with the robots in ``fixed`` at theirs."""
+    out = []
+    for p in range(len(conf)):
+        if p in fixed:
+            out.append(fixed[p])
+        elif isinstance(conf, np.ndarray):
+            k = kin if robots is None else robots[p]
+            out.append(tuple(float(v) for v in k.joint_angles_deg(conf[p])))
+        else:
+            out.append(conf[p])
+    return out
 
 
 def _in_ranges(kin: AlphaBeta, a: float, b: float, field: str, where: str | None) -> tuple[float, float]:
@@ -124,18 +161,23 @@ def _inverse(kin: AlphaBeta, rel: np.ndarray, hand: str, field: str, xy: Any, wh
                      f"{list(kin.beta_range)})", value=xy, where=where)
 
 
-def robot_lattices(kin: AlphaBeta, start: Any, target: Any) -> tuple[list[AlphaBeta], np.ndarray, np.ndarray]:
+def robot_lattices(kin: AlphaBeta, start: Any, target: Any,
+                   robots: list[AlphaBeta] | None = None) -> tuple[list[AlphaBeta], np.ndarray, np.ndarray]:
     """Each robot's own lattice holding its exact start and target angles (module docstring):
     ``(kinematics per robot, start indices, target indices)``.  ``start``/``target`` are
-    index arrays or lists of exact ``(α, β)``; robots with equal lattices share one object."""
+    index arrays or lists of exact ``(α, β)``; ``robots``: each robot's own arms (else
+    ``kin``'s); robots with equal geometry and lattices share one object."""
     n = len(start)
     wraps = kin.alpha_range is None
     grids = (kin.lattice_deg(0), kin.lattice_deg(1))
 
     def angles(conf: Any, p: int) -> tuple[float, float]:
         if isinstance(conf, np.ndarray):
-            return tuple(float(v) for v in kin.joint_angles_deg(conf[p]))  # type: ignore[return-value]
+            return tuple(float(v) for v in base(p).joint_angles_deg(conf[p]))  # type: ignore[return-value]
         return conf[p]
+
+    def base(p: int) -> AlphaBeta:
+        return kin if robots is None else robots[p]
 
     shared: dict[tuple, AlphaBeta] = {}
     kins: list[AlphaBeta] = []
@@ -145,10 +187,11 @@ def robot_lattices(kin: AlphaBeta, start: Any, target: Any) -> tuple[list[AlphaB
         (sa, sb), (ta, tb) = angles(start, p), angles(target, p)
         tab_a, (s_idx[p, 0], t_idx[p, 0]) = exact_lattice(grids[0], [sa, ta], wraps)
         tab_b, (s_idx[p, 1], t_idx[p, 1]) = exact_lattice(grids[1], [sb, tb], False)
-        key = (tab_a.tobytes(), tab_b.tobytes())
+        k = base(p)
+        key = (tab_a.tobytes(), tab_b.tobytes(), k.key())
         if key not in shared:
-            shared[key] = AlphaBeta(kin.alpha, kin.beta, kin.alpha_steps, kin.beta_steps, kin.beta_range,
-                                    alpha_range=kin.alpha_range, alpha_deg=tab_a, beta_deg=tab_b,
-                                    segment=kin.segment, fibre_point=kin.fibre_point)
+            shared[key] = AlphaBeta(k.alpha, k.beta, k.alpha_steps, k.beta_steps, k.beta_range,
+                                    alpha_range=k.alpha_range, alpha_deg=tab_a, beta_deg=tab_b,
+                                    segment=k.segment, fibre_point=k.fibre_point, offsets=k.offsets)
         kins.append(shared[key])
     return kins, s_idx, t_idx

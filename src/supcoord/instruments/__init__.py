@@ -1,0 +1,29 @@
+"""Real instruments: SDSS-V's measured focal planes (``sdss-v-apo``, ``sdss-v-lco``) as kaiju models them.
+
+:func:`load_instrument` reads the packaged SDSS-V FPS calibrations (``sdss/fps_calibrations``,
+release 2025.12.04) and returns an :class:`InstrumentGeometry`: 500 robots (bases, measured
+arms, fibres, offsets), 60 fiducials and 6 guide cameras as obstacles, and kaiju's collision
+segment, buffers, joint ranges and folded lattice, each number with its source.
+:func:`robot_forward` and :func:`fibre_xy` are kaiju's forward kinematics. See
+``docs/instruments.md``.
+"""
+
+from .sdss_v import (
+    INSTRUMENTS,
+    InstrumentGeometry,
+    fibre_joints,
+    fibre_xy,
+    load_instrument,
+    robot_collision_distance,
+    robot_forward,
+)
+
+__all__ = [
+    "INSTRUMENTS",
+    "InstrumentGeometry",
+    "load_instrument",
+    "robot_forward",
+    "fibre_xy",
+    "fibre_joints",
+    "robot_collision_distance",
+]

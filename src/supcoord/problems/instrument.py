@@ -1,0 +1,103 @@
+"""Real focal planes as PROBLEM.json layouts: ``{"kind": "instrument", "name": ...}``.
+
+``sdss-v-apo`` and ``sdss-v-lco`` are SDSS-V's measured woks (:mod:`supcoord.instruments`,
+``docs/instruments.md``): 500 robots in the calibration table's row order, each with its
+own base, measured alpha arm, calibration offsets and fibres; the beta arm's collision
+segment and buffer, the fiducials and guide cameras as fixed obstacles with their buffers,
+and kaiju's joint rule for robots beside a fiducial, all as SDSS-V's planner kaiju has them.
+``kinematics`` and ``collision`` may be omitted: then the joints have the instrument's hard
+stops (alpha [0°, 360°], beta [0°, 180°], where SDSS-V operates its targets) and
+:data:`DEFAULT_STEPS` positions; given, they may set ``alpha_steps``, ``beta_steps``,
+``alpha_range``, ``beta_range`` and ``collision.buffer``/``margin``, never the arm lengths,
+which are measured per robot.  ``"fibre"`` (default ``"boss"``) chooses the fibre that
+``xy_mm`` targets place.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+import numpy as np
+
+from ..errors import FormatError, InputError
+from ..geometry.kinematics import AlphaBeta
+from ..geometry.layout import _short
+from ..instruments import INSTRUMENTS, load_instrument
+
+__all__ = ["DEFAULT_STEPS", "InstrumentSetup", "instrument_setup", "LAYOUT_FIELDS"]
+
+#: default discretisation of an instrument's joints (alpha, beta): 10° steps
+DEFAULT_STEPS = (37, 19)
+LAYOUT_FIELDS = ("kind", "name", "fibre")
+_KIN_FIELDS = ("kind", "alpha_steps", "beta_steps", "alpha_range", "beta_range")
+
+
+@dataclass
+class InstrumentSetup:
+    """What an instrument layout fills in: bases, each robot's kinematics, obstacles, rules."""
+
+    layout: dict
+    kinematics: AlphaBeta          # the shared index structure (nominal arms)
+    robots: list[AlphaBeta]         # each robot's own
+    bases: np.ndarray
+    buffer: float
+    obstacles: np.ndarray
+    obstacle_buffers: np.ndarray
+    joint_rules: dict[int, tuple[float, float]]
+
+
+def instrument_setup(layout: dict, data: dict, where: str | None) -> InstrumentSetup:
+    """Read an instrument layout (module docstring); errors name the field and value."""
+    unknown = sorted(set(layout) - set(LAYOUT_FIELDS))
+    if unknown:
+        raise FormatError(f"layout.{unknown[0]} is not a field of an instrument layout (known: "
+                          f"{', '.join(LAYOUT_FIELDS)})", value=unknown[0], where=where)
+    name = layout.get("name")
+    if name not in INSTRUMENTS:
+        raise InputError(f"layout.name: unknown instrument {_short(name)} (known: {', '.join(INSTRUMENTS)})",
+                         value=name, where=where)
+    geom = load_instrument(name)
+    fibre = layout.get("fibre", "boss")
+    if fibre not in geom.fibres:
+        raise InputError(f"layout.fibre must be one of {', '.join(geom.fibres)}, got {_short(fibre)}", value=fibre,
+                         where=where)
+    spec = data.get("kinematics", {})
+    if not isinstance(spec, dict):
+        raise FormatError(f"kinematics must be an object, got {_short(spec)}", value=spec, where=where)
+    for key in spec:
+        if key not in _KIN_FIELDS and not str(key).startswith("_"):
+            raise InputError(f"kinematics.{key} cannot be set for instrument {name!r}: its robots are measured (only "
+                             f"{', '.join(_KIN_FIELDS[1:])} may be given)", value=key, where=where)
+    if spec.get("kind", "alpha-beta") != "alpha-beta":
+        raise InputError(f"kinematics.kind must be 'alpha-beta' for instrument {name!r}, got {_short(spec['kind'])}",
+                         value=spec.get("kind"), where=where)
+    steps = (spec.get("alpha_steps", DEFAULT_STEPS[0]), spec.get("beta_steps", DEFAULT_STEPS[1]))
+    alpha_range = spec.get("alpha_range", list(geom.alpha_range_deg))
+    beta_range = spec.get("beta_range", [0.0, 180.0])
+    seg = geom.beta_segment
+    nominal = AlphaBeta(float(np.median(geom.alpha_arm)), float(np.hypot(*geom.fibres[fibre][0])), steps[0], steps[1],
+                        beta_range, alpha_range=alpha_range)
+    robots = []
+    for p in range(len(geom.hole_ids)):
+        f = geom.frames[p]
+        turn = math.degrees(math.atan2(f[1, 0], f[0, 0]))
+        if abs(np.linalg.det(f) - 1.0) > 1e-9:
+            raise FormatError(f"instrument {name!r}: robot {geom.hole_ids[p]}'s hole frame is not a rotation",
+                              value=geom.hole_ids[p], where=where)
+        robots.append(AlphaBeta(float(geom.alpha_arm[p]), float(np.hypot(*geom.fibres[fibre][p])), steps[0], steps[1],
+                                beta_range, alpha_range=alpha_range, segment=seg[p], fibre_point=geom.fibres[fibre][p],
+                                offsets=(float(geom.alpha_offset_deg[p]) + turn, float(geom.beta_offset_deg[p]))))
+    c0, c1 = _fiducial_rule()
+    rules = {int(p): (c0, c1) for p in np.nonzero(geom.fiducial_watch)[0]} if geom.fiducial_watch is not None else {}
+    out_layout = {"kind": "instrument", "name": name}
+    if "fibre" in layout:
+        out_layout["fibre"] = fibre
+    return InstrumentSetup(out_layout, nominal, robots, np.array(geom.bases, float), float(geom.robot_buffer),
+                           np.array(geom.obstacles, float), np.array(geom.obstacle_buffers, float), rules)
+
+
+def _fiducial_rule() -> tuple[float, float]:
+    """kaiju's rule for robots beside a fiducial: ``β < c0 + c1·α`` is a collision."""
+    from ..instruments.sdss_v import FIDUCIAL_WATCH
+
+    return float(FIDUCIAL_WATCH[0]), float(FIDUCIAL_WATCH[1])
