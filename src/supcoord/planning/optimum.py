@@ -87,9 +87,14 @@ def optimal_makespan(problem: Problem, *, budget: Budget | None = None, backend:
     names = {p: var_names(problem, p) for p in range(problem.n)}
 
     def delta_rel(p: int, u: int) -> BDD:
-        """``[x'_p = x_p + u]`` as a BDD over the current and next bits of ``p``."""
+        """``[x'_p = x_p + u]`` as a BDD over the current and next bits of ``p`` (where ``p``'s
+        own constraints allow it: obstacles, held in place)."""
         r = ctx.false
-        for i in np.nonzero(valid[u])[0]:
+        ok = valid[u].copy()
+        if p in problem.unary():
+            sel = np.nonzero(ok)[0]
+            ok[sel] = ~problem.own_motion_blocked(p, pos[sel], options[u])
+        for i in np.nonzero(ok)[0]:
             cur = {nm: int(v) for nm, v in zip(names[p], pos[i])}
             new = {nm: int(v) for nm, v in zip(names[p], pos[nxt[u, i]])}
             r |= ctx.assignment(cur) & ctx.assignment(new, primed=True)

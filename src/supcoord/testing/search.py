@@ -118,9 +118,16 @@ def _simultaneous_full(problem: Problem, k: int, options: list[np.ndarray], nxt:
     ii, jj = ii.ravel(), jj.ravel()
     out = np.ones((len(options), len(options), n, n), dtype=bool)
     ok = nxt >= 0  # [u, i]: the deltas stay inside the hard stops
+
+    def allowed(r: int) -> np.ndarray:  # ... and the robot's own constraints (obstacles, held)
+        if r not in problem.unary():
+            return ok
+        return ok & ~np.array([problem.own_motion_blocked(r, pos, d) for d in options])
+
+    ok_a, ok_b = allowed(a), allowed(b)
     for u, du in enumerate(options):
         for v, dv in enumerate(options):
-            sel = ok[u][ii] & ok[v][jj]
+            sel = ok_a[u][ii] & ok_b[v][jj]
             hit = motion_collides(problem.kin(a), problem.bases[a], pos[ii[sel]], du, problem.kin(b), problem.bases[b],
                                   pos[jj[sel]], dv,
                                   bsum)
