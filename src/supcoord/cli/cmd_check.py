@@ -6,6 +6,9 @@ An invalid plan is an answer (exit 0); a missing or malformed file, or a problem
 start or target itself collides, is a user error (exit 2, one line on stderr).
 ``--figure`` draws what was found: the collision incidents zoomed (``.png``/``.pdf``/
 ``.svg``/``.jpg``), or the plan animated with colliding positioners in red (``.gif``).
+A plan may be given by its ``configurations``, by ``angles_deg`` alone or by
+``trajectories`` alone (a plan made by another tool): all are checked on joint angles;
+the figure draws the configurations of an index plan (of the others: start and target).
 """
 
 from __future__ import annotations
@@ -29,7 +32,9 @@ EXAMPLE = """examples:
 HELP = "validate a plan geometrically, independently of the planner"
 DESCRIPTION = ("Check a PLAN.json against a PROBLEM.json: start and target, one step per joint "
               "per configuration, and no collision during any step (sampled, then bisected until "
-              "decided to 1e-6 mm).")
+              "decided to 1e-6 mm). A plan given only by joint angles (angles_deg) or timed "
+              "trajectories is checked on its angles: start and target to 1e-6 deg, joint ranges, "
+              "no collision while moving.")
 BUDGETS = False  # no --max-nodes/--backend (no BDDs); --timeout and --max-memory are its own
 
 
@@ -66,10 +71,14 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if args.figure:
         from ..figures.plan import save_plan_figure
 
-        save_plan_figure(problem, plan, args.figure, result)
+        drawn = dict(result, incidents=[i for i in result["incidents"] if len(i["positioners"]) == 2]
+                     if plan.configurations else [])
+        save_plan_figure(problem, plan, args.figure, drawn)
     verdict = "VALID" if result["valid"] else "INVALID"
     lines = [f"{verdict}: {result['steps']} steps, {result['collisions']} collisions, "
              f"{result['at_target']}/{problem.n} positioners at target"]
+    if "motion_time_s" in result:
+        lines.append(f"motion time: {result['motion_time_s']:.3f} s")
     if result["min_clearance"] is not None:
         lines.append(f"smallest clearance beyond the buffers: {result['min_clearance']:.3f} mm")
     lines += [f"  - {p}" for p in result["problems"]]

@@ -7,7 +7,10 @@ A missing or malformed problem, or a start/target that itself collides, exits 2.
 ``--figure``: ``.gif`` animates a complete plan, ``.png``/``.pdf``/``.svg``/``.jpg`` draw
 a strip of its frames; an infeasible answer draws the problem with the positioners
 of its certificate in orange.  Fields of the problem file that the format does not
-know are reported as warnings on standard error.
+know are reported as warnings on standard error.  A complete plan carries its joint
+angles (``angles_deg``); ``--speed DEG_PER_S`` adds timed ``trajectories`` and
+``motion_time_s`` (:mod:`supcoord.problems.trajectory`: the timing model), and
+``--trajectories-csv FILE.csv`` writes the trajectories as ``robot,joint,t_s,deg`` rows.
 """
 
 from __future__ import annotations
@@ -28,7 +31,8 @@ EXAMPLE = """examples:
   supcoord solve problem.json --out plan.json --figure plan.gif
   supcoord solve problem.json --json --timeout 60
   -> {"status": "complete", "configurations": [...], "makespan": 9, "lower_bound": 6, ...}
-  supcoord solve problem.json --route monolithic     # the plain whole-grid method"""
+  supcoord solve problem.json --route monolithic     # the plain whole-grid method
+  supcoord solve problem.json --out plan.json --speed 30 --trajectories-csv traj.csv"""
 
 
 HELP = "plan collision-free moves from start to target (or prove none exists)"
@@ -47,6 +51,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--route", choices=["local", "monolithic"], default="local",
                    help="local: exact windows with certificates (default); monolithic: one model of the whole grid")
     p.add_argument("--order", choices=["rcm", "hex"], help="variable order (default: rcm for local, hex for monolithic)")
+    p.add_argument("--speed", type=float, metavar="DEG_PER_S",
+                   help="joint speed in degrees per second (1e-3 to 1e5): the plan gets timed trajectories and "
+                        "motion_time_s (each step lasts what its slowest joint needs)")
+    p.add_argument("--trajectories-csv", metavar="FILE.csv",
+                   help="write the trajectories as robot,joint,t_s,deg rows (needs --speed)")
 
 
 def figure_suffix(path: str | None, inputs: Sequence[str] = ()) -> str | None:
@@ -77,21 +86,38 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..planning.planner import solve
     from ..problems.problem import load_problem
 
+    from ..errors import InputError
+    from ..problems.trajectory import check_speed
+
     budget = budget_from_args(args)
+    speed = check_speed(getattr(args, "speed", None), "--speed")
+    csv = getattr(args, "trajectories_csv", None)
     figure_suffix(args.figure, [args.problem])
     writable(args.out, "--out", [args.problem])
-    if args.out and args.figure and Path(args.out).absolute() == Path(args.figure).absolute():
-        from ..errors import InputError
-
-        raise InputError("--out and --figure name the same file", value=args.out, where="--out")
+    if csv is not None:
+        if speed is None:
+            raise InputError("needs --speed (the trajectories' joint speed)", value=csv, where="--trajectories-csv")
+        if Path(csv).suffix.lower() != ".csv":
+            raise InputError(f"must end in .csv, got {csv!r}", value=csv, where="--trajectories-csv")
+        writable(csv, "--trajectories-csv", [args.problem])
+    outputs = [(flag, Path(f).absolute()) for flag, f in (("--out", args.out), ("--figure", args.figure),
+                                                           ("--trajectories-csv", csv)) if f]
+    for i, (flag, path) in enumerate(outputs):
+        for other, there in outputs[i + 1:]:
+            if path == there:
+                raise InputError(f"{flag} and {other} name the same file", value=str(path), where=flag)
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
-                 progress=console.progress)
-    kin = problem.kinematics
+                 progress=console.progress, speed=speed)
     if args.out:
-        plan.dump(args.out, kin)
+        plan.dump(args.out, problem)
+    if csv is not None and plan.trajectories is not None:
+        from ..outputs import atomic_write_text
+        from ..problems.trajectory import trajectories_csv
+
+        atomic_write_text(csv, trajectories_csv(plan.trajectories))
     if args.figure:
         from ..figures.plan import save_plan_figure
 
@@ -101,11 +127,16 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "
                 f"{s.get('single_moves')} single moves, {s.get('windows')} symbolic solve(s), "
                 f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
+        if plan.motion_time_s is not None:
+            text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"
     else:
         text = f"{plan.status.upper()}: {plan.reason}"
     if args.out:
         text += f"\nplan written to {args.out}"
+    if csv is not None:
+        text += (f"\ntrajectories written to {csv}" if plan.trajectories is not None
+                 else f"\nno trajectories (the plan is {plan.status}): {csv} not written")
     if args.figure:
         text += f"\nfigure written to {args.figure}"
     # docs/formats.md: "unknown" (a budget ran out) exits 3, also when the planner returns it as a plan
-    return CommandResult(payload=plan.to_json(kin), text=text, exit_code=3 if plan.status == "unknown" else 0)
+    return CommandResult(payload=plan.to_json(problem), text=text, exit_code=3 if plan.status == "unknown" else 0)

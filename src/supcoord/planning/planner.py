@@ -42,6 +42,7 @@ from ..des.symbolic_ops import allevents
 from ..errors import BudgetExceeded, InputError
 from ..problems.plan import Move, Plan, lower_bound
 from ..problems.problem import Problem
+from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from ..synthesis.supcon import supcon
 from .improve import improve_plan
@@ -118,7 +119,7 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
           validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
-          improve: int | None = None) -> Plan:
+          improve: int | None = None, speed: float | None = None) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
@@ -129,7 +130,9 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     neither changes a verdict); ``improve``: how many space-time re-plannings may shorten the
     scheduled plan (:mod:`.improve`; None: :func:`.improve.default_replans`, 0: off) — work,
     not seconds, so the same input gives the same plan on any machine and load.  ``events`` is the exact single-move witness, the
-    configurations its (improved) simultaneous schedule.  A budget that runs out raises
+    configurations its (improved) simultaneous schedule, ``angles_deg`` their joint angles; ``speed``
+    (degrees per second; None: none) adds ``trajectories`` and ``motion_time_s``
+    (:mod:`supcoord.problems.trajectory`).  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
     if not isinstance(problem, Problem):
@@ -140,6 +143,7 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     if improve is not None and (isinstance(improve, bool) or not isinstance(improve, (int, np.integer)) or improve < 0):
         raise InputError(f"improve must be a number of re-plannings >= 0 (0: off) or None, got {improve!r}",
                          value=improve, where="improve")
+    check_speed(speed)
     t0 = time.perf_counter()
     budget = budget or Budget()
     order = order or ("rcm" if route == "local" else "hex")
@@ -185,4 +189,4 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         stats["min_clearance"] = result["min_clearance"]
         stats["validate_seconds"] = time.perf_counter() - t0 - stats["seconds"]
     plan.stats = stats
-    return plan
+    return with_motion(plan, problem, speed)

@@ -16,6 +16,11 @@ index ``+1``/``−1``), ``p`` counting positioners from 0.
   together, linearly in joint space) is collision-free for every neighbour pair with a
   moving member (:func:`~supcoord.geometry.collision.motion_collides`); otherwise it starts a new step.
   The last configuration of each step is one of the sequence's own configurations.
+
+A plan also carries the joint angles of its configurations (``angles_deg``) and, given a
+joint speed, timed ``trajectories`` and ``motion_time_s`` (:mod:`.trajectory`: the timing
+model); a plan may consist of those alone (made by another tool), which the validator
+checks as well.
 """
 
 from __future__ import annotations
@@ -30,10 +35,11 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from ..outputs import atomic_write_text
-from ..geometry.collision import DEFAULT_TOL, motion_collides
+from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
 from ..geometry.kinematics import Kinematics, _is_int
 from ..geometry.layout import _short
 from .problem import Problem, read_json
+from .trajectory import check_speed, motion_to_json, parse_motion_fields, wrapped_angles, with_motion
 
 __all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves",
            "compact_moves", "plan_from_moves", "load_plan", "parse_plan", "STATUSES"]
@@ -72,7 +78,8 @@ def lower_bound(problem: Problem) -> int:
 
 @dataclass
 class Plan:
-    """The PLAN.json object; ``configurations`` is a list of ``(N, J)`` int arrays."""
+    """The PLAN.json object; ``configurations`` is a list of ``(N, J)`` int arrays, ``angles_deg``
+    of ``(N, J)`` float arrays; a plan may hold angles or trajectories without configurations."""
 
     status: str
     configurations: list[np.ndarray] = field(default_factory=list)
@@ -81,6 +88,11 @@ class Plan:
     events: list[str] = field(default_factory=list)
     reason: str = ""
     stats: dict = field(default_factory=dict)
+    #: joint angles (degrees) of each configuration, ``(N, J)`` float arrays (or the plan itself)
+    angles_deg: list[np.ndarray] = field(default_factory=list)
+    #: per robot ``{joint name: (K, 2) array of [t_s, deg]}`` (:mod:`.trajectory`), or None
+    trajectories: list[dict] | None = None
+    motion_time_s: float | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -88,8 +100,12 @@ class Plan:
         if self.makespan is None and self.configurations:
             self.makespan = len(self.configurations) - 1
 
-    def to_json(self, kin: Kinematics) -> dict:
-        return {
+    def to_json(self, kin: Kinematics | Problem) -> dict:
+        """The PLAN.json object; given the :class:`Problem` (not only its kinematics), the
+        ``angles_deg`` of the configurations are written even when the plan holds none."""
+        problem = kin if isinstance(kin, Problem) else None
+        kin = problem.kinematics if problem is not None else kin
+        out = {
             "status": self.status,
             "configurations": [[kin.position_to_json(q) for q in c] for c in self.configurations],
             "makespan": self.makespan,
@@ -98,8 +114,15 @@ class Plan:
             "reason": self.reason,
             "stats": dict(self.stats),
         }
+        angles = self.angles_deg
+        if not angles and problem is not None and self.configurations:
+            angles = wrapped_angles(problem, self.configurations)
+        if angles or problem is not None:
+            out["angles_deg"] = [np.asarray(a, float).tolist() for a in angles]
+        out.update(motion_to_json(self))
+        return out
 
-    def dump(self, path: str | Path, kin: Kinematics) -> None:
+    def dump(self, path: str | Path, kin: Kinematics | Problem) -> None:
         """Write PLAN.json atomically (:func:`supcoord.outputs.atomic_write_text`)."""
         atomic_write_text(path, json.dumps(self.to_json(kin)) + "\n")
 
@@ -158,7 +181,9 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
     stats = data.get("stats", {})
     if not isinstance(stats, dict):
         raise FormatError(f"stats must be an object, got {_short(stats)}", value=stats, where=where)
-    return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats)
+    angles, trajectories, motion = parse_motion_fields(data, problem, len(out), MAX_PLAN_POSITIONS, where)
+    return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
+                motion)
 
 
 def checked_step(kin: Kinematics, q: Any, k: int, move: Move) -> np.ndarray:
@@ -215,14 +240,17 @@ def compact_moves(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
 
 
 def plan_from_moves(problem: Problem, moves: Sequence[Move], *, compact: bool = True,
-                    stats: dict | None = None) -> Plan:
-    """A ``complete`` plan from a single-move sequence that reaches the target."""
+                    stats: dict | None = None, speed: float | None = None) -> Plan:
+    """A ``complete`` plan from a single-move sequence that reaches the target, with its
+    ``angles_deg`` and, given a joint ``speed`` (degrees per second), its trajectories."""
+    check_speed(speed)
     kin = problem.kinematics
     confs = compact_moves(problem, moves) if compact else apply_moves(problem, moves)
     if not np.array_equal(confs[-1], problem.target):
         raise InputError("the moves do not end at the target configuration", value=len(moves))
     events = [event_name(kin, p, j, d) for p, j, d in moves]
-    return Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", dict(stats or {}))
+    plan = Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", dict(stats or {}))
+    return with_motion(plan, problem, speed)
 
 
 def _check_move(problem: Problem, k: int, p: Any, joint: Any, d: Any) -> None:
@@ -236,7 +264,7 @@ def _step_collides(problem: Problem, c: np.ndarray, delta: np.ndarray, ks: np.nd
     """Does the simultaneous motion ``c → c + delta`` collide for one of the pairs ``ks``?"""
     if len(ks) == 0:
         return False
-    kin, bases = problem.kinematics, problem.bases
+    bases = problem.bases
     a, b = problem.pairs[ks, 0], problem.pairs[ks, 1]
-    hit = motion_collides(kin, bases[a], c[a], delta[a], kin, bases[b], c[b], delta[b], bsum[ks], tol)
+    hit = robots_motion_collides(problem.kins, a, bases[a], c[a], delta[a], b, bases[b], c[b], delta[b], bsum[ks], tol)
     return bool(hit.any())

@@ -1,49 +1,72 @@
 """Independent geometric validation of a plan (what ``supcoord check`` runs).
 
-A plan ``c_0, …, c_T`` is *valid* for a problem when
+A plan is a motion of every robot's joints from the start to the target, given in one of
+three ways (``docs/formats.md``, PLAN.json):
 
-- ``c_0 = start`` and ``c_T = target``, the status is ``complete``, ``makespan = T``;
-- every position is inside the joints' ranges, and between consecutive configurations
-  every joint moves at most one step (cyclically where it wraps);
-- the ``events`` (when given) are move events of this problem (``v3``/``w3`` rotary,
+- ``configurations`` ``c_0, …, c_T`` (lattice indices), each turned into joint angles by
+  :meth:`Problem.angles_deg` (each robot's own lattice), a step ``c_k → c_{k+1}`` turning
+  every joint linearly in angle by one lattice step at most (the short way round where it
+  wraps).  Valid when ``c_0 = start``, ``c_T = target``, ``makespan = T``, every position
+  is inside the joints' ranges, every joint moves at most one step per configuration, the
+  ``events`` (when given) are move events of this problem (``v3``/``w3`` rotary,
   ``va3``/``wa3``/``vb3``/``wb3`` alpha-beta, positioners counted from 0) whose net effect
-  from ``start`` is the last configuration (their order is not checked: a plan may
-  merge and reorder its single moves);
-- no neighbour pair collides at any time of any step: with all moving joints
-  interpolated together, ``c_k + t·(c_{k+1} − c_k)``, ``t ∈ [0, 1]``,
-  ``∀k ∀(a, b) ∀t. dist(S_a(t), S_b(t)) ≥ r_a + r_b``.
+  from ``start`` is the last configuration (their order is not checked), and the
+  ``angles_deg`` (when given besides) are those of the configurations (to 1e-6°, modulo
+  360 where a joint wraps);
+- ``angles_deg`` alone: poses ``θ_0, …, θ_T`` (degrees), a step turning each joint linearly
+  from ``θ_k`` to ``θ_{k+1}``, the short way round where the joint wraps;
+- ``trajectories`` alone: per robot and joint, breakpoints ``[t_s, deg]`` linear in time
+  between them (a joint holds its first angle before its first breakpoint and its last
+  after its last); the poses at the union of all breakpoint times are the steps (linear in
+  time, hence in angle, between them).  Given besides configurations or angles, the
+  trajectories are checked as a motion of their own too (problems prefixed
+  ``trajectories:``), and ``motion_time_s`` (when given) must be their last time.
+
+For angles and trajectories: the first pose is the start's angles and the last the
+target's within 1e-6° (modulo 360 where the joint wraps), and every angle is inside the
+joint's range (``alpha_range`` where alpha has hard stops, ``beta_range``).  In every case
+no robot collides at any time of any step, ``θ_k + t·Δθ_k``, ``t ∈ [0, 1]``: neither a
+neighbour (``dist(S_a(t), S_b(t)) ≥ r_a + r_b``) nor a fixed obstacle
+(``dist(S_p(t), O) ≥ r_p + r_O``), ``S_p`` robot ``p``'s colliding segment at those angles;
+an offline robot (``problem.held``) never leaves its angles and no robot under a joint rule
+(``problem.joint_rules``) enters its forbidden half-plane ``β < c0 + c1·α``.  A step that
+turns a joint by more than a full turn is checked one turn at a time (the same motion); one
+of more than :data:`MAX_TURNS` turns is reported and not checked.
 
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
 rounding of an exact touch and not reported, so that the tables' and the validator's
-double-precision formulas agree on touching arms.  Each step's time axis is first sampled so that no point of a
-colliding segment moves more than ``resolution/2`` mm between samples (default
-``resolution`` = 0.05 mm); then every interval between two samples whose distances do
-not settle it is **bisected**: with ``L`` the pair's travel bound (``d(t)`` is
-``L``-Lipschitz), the least distance over an interval ``[t0, t1]`` is at least
-``(d(t0) + d(t1) − L·(t1 − t0))/2``, so an interval is free once that bound reaches
-``r_a + r_b``, and a sample below it is a collision.  Bisection stops when an interval's
-bound is within :data:`TOLERANCE` (1e-6 mm) of deciding, or when a pair has more than
-:data:`MAX_OPEN` open intervals in one step (it touches along a stretch, at exactly
-``r_a + r_b``, which no sampling settles); such pairs are accepted and reported:
+double-precision formulas agree on touching arms.  Each step's time axis is first sampled
+so that no point of a colliding segment moves more than ``resolution/2`` mm between samples
+(default ``resolution`` = 0.05 mm); then every interval between two samples whose distances
+do not settle it is **bisected**: with ``L`` the pair's travel bound (``d(t)`` is
+``L``-Lipschitz, :mod:`.validate_motion`), the least distance over an interval ``[t0, t1]``
+is at least ``(d(t0) + d(t1) − L·(t1 − t0))/2``, so an interval is free once that bound
+reaches ``r_a + r_b``, and a sample below it is a collision.  Bisection stops when an
+interval's bound is within :data:`TOLERANCE` (1e-6 mm) of deciding, or when a pair has
+more than :data:`MAX_OPEN` open intervals in one step (it touches along a stretch, at
+exactly ``r_a + r_b``, which no sampling settles); such pairs are accepted and reported:
 ``undecided`` counts them and ``undecided_depth`` bounds how deep a collision they could
-hide (a collision deeper than that is always found, whatever the resolution).  This
-module is deliberately *independent* of
-:mod:`supcoord.geometry` (layout, kinematics, collision tables): it rebuilds a
-hex layout from ``rings`` and ``pitch`` by another construction (axial lattice
-coordinates sorted by ring, then by polar angle) and reports a base that differs from
-the problem's, recomputes the arms from the PROBLEM.json numbers with the formulas of
-``docs/formats.md``, uses another segment-distance algorithm (closest points of two
-segments by clamped parameters, Ericson §5.1.9) and its own neighbour bound
-``|x_a − x_b| < 2·Σ (arm lengths) + 2·max r``, so that it can catch their bugs.
+hide (a collision deeper than that is always found, whatever the resolution).
+
+This module is deliberately *independent* of the planner and of the collision tables:
+of :mod:`supcoord.geometry` it uses only each robot's segment at given angles
+(``segments_at_deg``) and :meth:`Problem.angles_deg`; it rebuilds a hex layout from
+``rings`` and ``pitch`` by another construction (axial lattice coordinates sorted by
+ring, then by polar angle) and reports a base that differs from the problem's, uses
+another segment-distance algorithm (closest points of two segments by clamped
+parameters, Ericson §5.1.9), its own neighbour bound ``|x_a − x_b| < reach_a + reach_b +
+2·max r``, and its own reading of trajectories, so that it can catch their bugs.
 
 Result: ``{"valid", "collisions", "at_target", "problems", "steps", "min_clearance",
-"incidents", "undecided", "undecided_depth"}`` where ``collisions`` counts (step, pair) incidents, ``at_target`` the
-positioners whose last position is their target, ``min_clearance`` the least
-``dist − (r_a + r_b)`` seen, and ``incidents`` lists the first :data:`MAX_PROBLEMS`
-collisions as ``{"step": k, "positioners": [a, b], "t": t, "distance": d,
-"required": r_a + r_b}`` (``t ∈ [0, 1]`` the time of the least distance within step
-``k → k+1``), which is what ``supcoord check --figure`` draws.
+"incidents", "undecided", "undecided_depth"}`` (and ``"motion_time_s"``, the last
+breakpoint time, when the plan has trajectories) where ``collisions`` counts (step, pair)
+incidents, ``at_target`` the positioners whose last position is their target,
+``min_clearance`` the least ``dist − (r_a + r_b)`` seen, and ``incidents`` lists the first
+:data:`MAX_PROBLEMS` collisions as ``{"step": k, "positioners": [a, b], "t": t,
+"distance": d, "required": r_a + r_b}`` (``t ∈ [0, 1]`` the time of the least distance
+within step ``k → k+1``; a robot against an obstacle: ``"positioners": [p]`` and
+``"obstacle": o``), which is what ``supcoord check --figure`` draws.
 
 References
 ----------
@@ -54,18 +77,22 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ..errors import InputError
 from .plan import Plan
 from .problem import Problem
-from .validate_motion import MAX_OPEN, TOLERANCE, _arm, _close_pairs, _step_distances, segment_distance_ericson
+from .validate_motion import (ANGLE_TOL, MAX_OPEN, TOLERANCE, Bodies, _angles_off, _check_angle_poses,
+                              _check_held_and_rules, _ids, _pose_steps, _step_distances, _trajectory_arrays,
+                              _trajectory_poses, _wrapping, segment_distance_ericson)
 
 __all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS", "TOLERANCE",
-           "RESOLUTION_RANGE", "MAX_OPEN", "TIE"]
+           "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
 
+#: most full turns of a joint in one step that the geometric check follows (beyond: reported)
+MAX_TURNS = 100
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
 #: accepted first sampling steps (mm): finer only costs memory, coarser only bisection work
@@ -150,59 +177,141 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
         raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
                          value=resolution, where="resolution")
-    kin = problem.kinematics.to_json()
-    steps = np.array([kin["steps"]] if kin["kind"] == "rotary" else [kin["alpha_steps"], kin["beta_steps"]])
-    wraps = np.array([True] if kin["kind"] == "rotary" else [True, False])
+    kin = problem.kinematics
+    steps = np.array([j.steps for j in kin.joints])
+    wraps = np.array([j.wraps for j in kin.joints])
     problems: list[str] = []
     shape = (problem.n, len(steps))
     confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
-    wrong = [k for k, c in enumerate(confs) if c.shape != shape]
-    if wrong:
-        problems.append(f"configurations[{wrong[0]}] has shape {list(confs[wrong[0]].shape)}, not {list(shape)} "
-                        f"({problem.n} positioners, {len(steps)} joints): a plan for another problem?")
-        return _result(False, 0, 0, problems, max(0, len(confs) - 1), None)
-    last = confs[-1] if confs else problem.start
-    at_target = int(np.sum(np.all(last == problem.target, axis=1)))
+    poses = [np.asarray(a, dtype=float) for a in plan.angles_deg]
+    trajs = _trajectory_arrays(plan.trajectories, [j.name for j in kin.joints], problem.n)
+    for name, seq in (("configurations", confs), ("angles_deg", poses)):
+        wrong = [k for k, c in enumerate(seq) if c.shape != shape]
+        if wrong:
+            problems.append(f"{name}[{wrong[0]}] has shape {list(seq[wrong[0]].shape)}, not {list(shape)} "
+                            f"({problem.n} positioners, {len(steps)} joints): a plan for another problem?")
+            return _result(False, 0, 0, problems, max(0, len(seq) - 1), None)
+    bad = [k for k, a in enumerate(poses) if not np.all(np.isfinite(a))]
+    if bad:
+        problems.append(f"angles_deg[{bad[0]}] holds an angle that is not a finite number")
+        return _result(False, 0, 0, problems, max(0, len(poses) - 1), None)
+    if trajs is None and plan.trajectories is not None:
+        problems.append(f"trajectories must give each of {problem.n} positioners the joints "
+                        f"{[j.name for j in kin.joints]}, each a non-empty list of [t_s, deg] in increasing time: "
+                        f"a plan for another problem?")
+        return _result(False, 0, 0, problems, 0, None)
     if plan.status != "complete":
         problems.append(f"plan status is {plan.status!r}" + (f": {plan.reason}" if plan.reason else ""))
-    if not confs:
+    if not confs and not poses and trajs is None:
         problems.append("the plan has no configurations")
-        return _result(False, 0, at_target, problems, 0, None)
-    _check_sequence(problem, plan, kin["kind"], confs, steps, wraps, problems)
+        return _result(False, 0, int(np.sum(np.all(problem.start == problem.target, axis=1))), problems, 0, None)
+    bases = _bases(problem, problems)
+    bodies = Bodies(problem, bases)
+    ia, ib = bodies.pairs()
+    need = bodies.buffers[ia] + bodies.buffers[ib]
+    geo = (bodies, ia, ib, need, resolution)
+    if confs:
+        at_target = int(np.sum(np.all(confs[-1] == problem.target, axis=1)))
+        _check_sequence(problem, plan, kin.kind, confs, steps, wraps, problems)
+        if poses:
+            _check_angles_match(problem, confs, poses, problems)
+        _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs])),
+                              "configurations", problems)
 
-    # neighbour pairs, from scratch: sum of arm lengths bounds each segment's distance from its base
-    bases, buf = _bases(problem, problems), problem.buffers
-    _, _, reach, incr = _arm(kin, np.zeros((1, len(steps))))
-    ia, ib = _close_pairs(bases, 2 * reach + 2 * buf.max(initial=0.0))
-    need = buf[ia] + buf[ib]
+        def step(k: int) -> tuple[np.ndarray, np.ndarray]:
+            a0 = problem.angles_deg(confs[k])
+            if k + 1 >= len(confs):
+                return a0, np.zeros_like(a0)
+            delta = _step_delta(confs[k], confs[k + 1], steps, wraps, k, problems)
+            return a0, problem.angles_deg(confs[k] + delta) - a0
 
+        found = _check_motion(geo, step, len(confs), "configuration 0", problems)
+    elif poses:
+        at_target = _check_angle_poses(problem, np.stack(poses), "angles_deg", problems)
+        _check_held_and_rules(problem, lambda p: np.array([a[p] for a in poses]), "angles_deg", problems)
+        if plan.makespan is not None and plan.makespan != len(poses) - 1:
+            problems.append(f"makespan is {plan.makespan} but the plan has {len(poses) - 1} steps")
+        short = _wrapping(problem)
+        found = _check_motion(geo, _pose_steps(poses, short), len(poses), "pose 0", problems)
+    if trajs is not None:
+        times, tposes = _trajectory_poses(trajs)
+        label, mine = ("trajectories: ", []) if confs or poses else ("", problems)
+        at = _check_angle_poses(problem, tposes, "trajectories", mine)
+        _check_held_and_rules(problem, lambda p: tposes[:, p], "trajectories", mine)
+        got = _check_motion(geo, _pose_steps(list(tposes), None), len(tposes), "pose 0", mine)
+        if confs or poses:
+            problems.extend(p if p.startswith(label) else label + p for p in mine)
+            found = (found[0] + got[0], min(found[1], got[1]), found[2], (found[3][0] + got[3][0],
+                                                                            max(found[3][1], got[3][1])))
+        else:
+            at_target, found = at, got
+        motion = float(max(float(t[-1, 0]) for robot in trajs for t in robot.values()))
+        if plan.motion_time_s is not None and abs(plan.motion_time_s - motion) > 1e-9 * max(1.0, motion):
+            problems.append(f"motion_time_s is {plan.motion_time_s!r} but the trajectories end at t = {motion!r} s")
+    collisions, clearance, incidents, undecided = found
+    n_steps = len(confs) - 1 if confs else len(poses) - 1 if poses else len(times) - 1
+    result = _result(not problems, collisions, at_target, problems, n_steps, clearance, incidents, undecided)
+    if trajs is not None:
+        result["motion_time_s"] = motion
+    return result
+
+
+def _check_motion(geo: tuple, step: Callable[[int], tuple[np.ndarray, np.ndarray]], count: int, single: str,
+                  problems: list[str]) -> tuple[int, float, list[dict[str, Any]], tuple[int, float]]:
+    """The geometric check of ``count`` poses, ``step(k)`` giving pose ``k``'s angles and the turn
+    to pose ``k + 1``: ``(collisions, least clearance, incidents, (undecided, depth))``."""
+    bodies, ia, ib, need, resolution = geo
+    n = bodies.n
     collisions = undecided = 0
     depth = 0.0
     clearance = math.inf
     incidents: list[dict[str, Any]] = []
-    for k in range(max(1, len(confs) - 1)):
-        c0 = confs[k]
-        c1 = confs[k + 1] if k + 1 < len(confs) else c0
-        delta = _step_delta(c0, c1, steps, wraps, k, problems)
-        # every point of a colliding segment moves at most reach·Σ|Δ_j|·incr_j (each joint turns
-        # the segment about a point within `reach` of it)
-        travel = reach * (np.abs(delta) @ incr)
-        dmin, tmin, (unsure, deep) = _step_distances(kin, bases, c0, delta, ia, ib, travel, need - TIE, resolution)
-        undecided += unsure
-        depth = max(depth, deep)
+    for k in range(max(1, count - 1)):
+        a0, turn = step(k)
+        a0, turn = bodies.pad(a0), bodies.pad(turn)
+        where = f"step {k}->{k + 1}" if count > 1 else single
+        # a step turning a joint by more than a turn is checked a turn at a time (the same motion)
+        pieces = max(1, math.ceil(float(np.abs(turn).max(initial=0.0)) / 360.0))
+        if pieces > MAX_TURNS:
+            problems.append(f"{where}: a joint turns by {float(np.abs(turn).max()):.6g} deg, more than {MAX_TURNS} "
+                            f"turns: not checked for collisions")
+            continue
+        dmin, tmin = np.full(len(ia), np.inf), np.zeros(len(ia))
+        for i in range(pieces):
+            part = turn / pieces
+            d, t, (unsure, deep) = _step_distances(bodies, a0 + i * part, part, ia, ib, bodies.travel(part),
+                                                   need - TIE, resolution)
+            tmin = np.where(d < dmin, (i + t) / pieces, tmin)
+            dmin = np.minimum(dmin, d)
+            undecided += unsure
+            depth = max(depth, deep)
         if len(dmin):
             clearance = min(clearance, float(np.min(dmin - need)))
         hits = np.nonzero(dmin < need - TIE)[0]
         collisions += len(hits)
-        where = f"step {k}->{k + 1}" if len(confs) > 1 else "configuration 0"
         for h in hits:
-            problems.append(f"{where}: positioners {ia[h]} and {ib[h]} collide "
-                            f"(distance {dmin[h]:.3f} mm < {need[h]:.3f} mm)")
+            a, b = int(ia[h]), int(ib[h])
+            what = f"positioners {a} and {b} collide" if b < n else f"positioner {a} collides with obstacle {b - n}"
+            problems.append(f"{where}: {what} (distance {dmin[h]:.3f} mm < {need[h]:.3f} mm)")
             if len(incidents) < MAX_PROBLEMS:
-                incidents.append({"step": k, "positioners": [int(ia[h]), int(ib[h])], "t": float(tmin[h]),
-                                  "distance": float(dmin[h]), "required": float(need[h])})
-    valid = not problems
-    return _result(valid, collisions, at_target, problems, len(confs) - 1, clearance, incidents, (undecided, depth))
+                inc = {"step": k, "positioners": [a, b] if b < n else [a], "t": float(tmin[h]),
+                       "distance": float(dmin[h]), "required": float(need[h])}
+                if b >= n:
+                    inc["obstacle"] = b - n
+                incidents.append(inc)
+    return collisions, clearance, incidents, (undecided, depth)
+
+
+def _check_angles_match(problem: Problem, confs: list[np.ndarray], poses: list[np.ndarray],
+                        problems: list[str]) -> None:
+    """``angles_deg`` given besides the configurations must be theirs."""
+    if len(confs) != len(poses):
+        problems.append(f"angles_deg has {len(poses)} poses but configurations has {len(confs)}")
+    for k, (c, a) in enumerate(zip(confs, poses)):
+        bad = _angles_off(problem, a, problem.angles_deg(c))
+        if len(bad):
+            problems.append(f"angles_deg[{k}] are not the angles of configurations[{k}] (positioners {_ids(bad)})")
+            return
 
 
 def _check_sequence(problem: Problem, plan: Plan, kind: str, confs: list[np.ndarray], steps: np.ndarray,
@@ -236,12 +345,6 @@ def _step_delta(c0: np.ndarray, c1: np.ndarray, steps: np.ndarray, wraps: np.nda
         problems.append(f"step {k}->{k + 1}: positioners {_ids(jumps)} move a joint by more than one step")
         delta = np.clip(delta, -1, 1)
     return delta
-
-
-def _ids(idx: Any, limit: int = 10) -> str:
-    idx = [int(i) for i in idx]
-    text = ", ".join(map(str, idx[:limit]))
-    return text + (f", ... ({len(idx)} in all)" if len(idx) > limit else "")
 
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,

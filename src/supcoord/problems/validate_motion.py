@@ -1,9 +1,16 @@
-"""The validator's own geometry: arms, segment distances, and the certified check of one step.
+"""The validator's geometry: robots at joint angles, segment distances, the certified check of one step.
 
-Part of :mod:`.validate` (see its docstring for the rule), kept apart only for size; like
-it, deliberately independent of :mod:`supcoord.geometry`: the arms are recomputed from the
-PROBLEM.json numbers, segment distances by Ericson's clamped closest points, and each step
-``c_0 + t·Δ`` is sampled and then bisected with the pair's Lipschitz bound.
+Part of :mod:`.validate` (see its docstring for the rule), kept apart only for size.  A
+step is a motion **linear in joint angle**, ``θ(t) = θ_0 + t·Δθ`` (``t ∈ [0, 1]``, all joints
+of all robots together); robot ``p``'s colliding segment at any angles is its kinematics'
+``segments_at_deg`` placed at its base (each robot its own geometry), fixed obstacles are
+segments with buffers.  Of :mod:`supcoord.geometry` the validator uses only that (and
+:meth:`Problem.angles_deg`), never the collision tables or their sweeps: segment distances
+are Ericson's clamped closest points, neighbours come from its own bound, and each step is
+sampled, then bisected with the pair's Lipschitz bound: every point of robot ``p``'s segment
+moves at most ``L_p = reach_p·|Δα| + ρ_p·|Δβ|`` (radians; ``reach_p`` the kinematics' reach,
+``ρ_p`` the farthest point of the segment from the elbow; rotary ``arm·|Δθ|``), so a pair's
+distance is ``(L_a + L_b)``-Lipschitz in ``t``.
 
 References
 ----------
@@ -15,11 +22,14 @@ References
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-__all__ = ["segment_distance_ericson", "TOLERANCE", "MAX_OPEN"]
+if TYPE_CHECKING:
+    from .problem import Problem
+
+__all__ = ["segment_distance_ericson", "TOLERANCE", "MAX_OPEN", "ANGLE_TOL", "Bodies"]
 
 #: depth (mm) below which bisection stops: a collision shallower than this can pass unseen
 TOLERANCE = 1e-6
@@ -29,6 +39,8 @@ _ROWS = 200_000
 #: a stretch (distance exactly ``r_a + r_b``), which no sampling can settle; the result
 #: reports how deep a collision there could be (``undecided_depth``)
 MAX_OPEN = 64
+#: degrees within which a plan's angles must meet the start, the target and the joint ranges
+ANGLE_TOL = 1e-6
 
 
 def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
@@ -36,7 +48,12 @@ def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
 
     Every candidate is the distance between two actual points of the segments, so the
     result is never below the true distance; the end-point candidates make it exact
-    also for nearly parallel segments.
+    also for nearly parallel segments that do not meet, and an orientation test gives 0
+    for segments that cross (at a small angle the parametric candidate is off by the
+    cancellation in ``a·e − b²``).
+
+    >>> float(segment_distance_ericson([0, 1e-6], [2, 0], [3, 1e-6], [0, 0]))   # crossing at x = 1.2
+    0.0
 
     >>> round(float(segment_distance_ericson([0, 0], [2, 0], [3, 1], [5, 1])) ** 2, 12)
     2.0
@@ -62,7 +79,16 @@ def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
     # nearly parallel segments (the cancellation in a·e − b²) can leave s off its optimum;
     # the distance is then attained at an end point, so the four end-point distances repair it
     ends = [_to_segment(p1, p2, d2, e), _to_segment(q1, p2, d2, e), _to_segment(p2, p1, d1, a), _to_segment(q2, p1, d1, a)]
-    return np.minimum(d, np.minimum(np.minimum(ends[0], ends[1]), np.minimum(ends[2], ends[3])))
+    d = np.minimum(d, np.minimum(np.minimum(ends[0], ends[1]), np.minimum(ends[2], ends[3])))
+    # a proper crossing: each segment's end points on opposite sides of the other's line
+    o1, o2 = _cross(d1, p2 - p1), _cross(d1, q2 - p1)
+    o3, o4 = _cross(d2, p1 - p2), _cross(d2, q1 - p2)
+    crossing = (o1 * o2 < 0) & (o3 * o4 < 0)
+    return np.where(crossing, 0.0, d)
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
 def _to_segment(x: np.ndarray, start: np.ndarray, direction: np.ndarray, length2: np.ndarray) -> np.ndarray:
@@ -76,33 +102,99 @@ def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
 
 
-def _arm(kin: dict, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
-    """Colliding segment (start, end) relative to the base for float positions ``q`` (..., J),
-    the sum of the arm lengths, and per-joint angle increments (radians per step)."""
-    if kin["kind"] == "rotary":
-        theta = -2.0 * math.pi * q[..., 0] / kin["steps"]
-        end = kin["arm"] * np.stack([np.cos(theta), np.sin(theta)], -1)
-        return np.zeros_like(end), end, kin["arm"], np.array([2 * math.pi / kin["steps"]])
-    lo, hi = (math.radians(v) for v in kin["beta_range"])
-    alpha = 2.0 * math.pi * q[..., 0] / kin["alpha_steps"]
-    beta = lo + (hi - lo) * q[..., 1] / (kin["beta_steps"] - 1)
-    elbow = kin["alpha"] * np.stack([np.cos(alpha), np.sin(alpha)], -1)
-    fibre = elbow + kin["beta"] * np.stack([np.cos(alpha + beta), np.sin(alpha + beta)], -1)
-    incr = np.array([2 * math.pi / kin["alpha_steps"], (hi - lo) / (kin["beta_steps"] - 1)])
-    return elbow, fibre, kin["alpha"] + kin["beta"], incr
+
+def _segment_radius(kin: Any) -> float:
+    """Farthest point of the colliding segment from the last joint's axis (0 for one joint):
+    for alpha-beta the elbow, at ``(alpha, 0)`` when both angles are 0."""
+    if kin.n_joints == 1:
+        return 0.0
+    seg = np.asarray(kin.segments_at_deg(np.zeros(kin.n_joints)), float)
+    return float(np.hypot(seg[:, 0] - kin.alpha, seg[:, 1]).max())
 
 
-def _step_distances(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndarray, ia: np.ndarray,
-                    ib: np.ndarray, travel: np.ndarray, need: np.ndarray,
-                    resolution: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """Least distance of each pair ``(ia, ib)`` over the step ``c0 + t·delta``, the ``t`` where
-    it occurs (0 when the start is closest) and the number of pairs left undecided within
-    :data:`TOLERANCE`: sampled so that no point moves more than ``resolution/2`` between
-    samples, then bisected where the samples do not settle ``d ≥ need`` (module docstring);
-    the last value is ``(pairs left open, the deepest collision they could hide)``."""
-    moving = np.any(delta != 0, axis=1)
+class Bodies:
+    """Robots and fixed obstacles as the validator sees them: entities ``0 … N−1`` are robots
+    (base, own kinematics, Lipschitz radii), ``N … N+M−1`` the obstacles (fixed segments)."""
+
+    def __init__(self, problem: Any, bases: np.ndarray):
+        n = problem.n
+        self.n, self.bases = n, np.asarray(bases, float)
+        self.kins: list[Any] = []
+        keys: dict[Any, int] = {}
+        group = np.zeros(n, dtype=int)
+        for p in range(n):
+            kin = problem.kin(p)
+            key = kin.key() if problem.robot_kinematics is not None else 0
+            if key not in keys:
+                keys[key] = len(self.kins)
+                self.kins.append(kin)
+            group[p] = keys[key]
+        self.reach = np.array([self.kins[g].reach for g in group], float).reshape(n)
+        radius = [_segment_radius(k) for k in self.kins]
+        self.radius = np.array([radius[g] for g in group], float).reshape(n)
+        self.obstacles = np.asarray(getattr(problem, "obstacles", np.zeros((0, 2, 2))), float).reshape(-1, 2, 2)
+        self.m = len(self.obstacles)
+        obuf = np.asarray(getattr(problem, "obstacle_buffers", np.zeros(0)), float).reshape(self.m)
+        self.buffers = np.concatenate([np.asarray(problem.buffers, float), obuf])
+        self.group = np.concatenate([group, np.full(self.m, -1)])
+
+    def pad(self, angles: np.ndarray) -> np.ndarray:
+        """Robots' angles ``(N, J)`` with zero rows for the obstacles."""
+        return np.concatenate([angles, np.zeros((self.m, angles.shape[1]))])
+
+    def travel(self, turn_deg: np.ndarray) -> np.ndarray:
+        """Per entity, how far any point of it moves over a step turning the joints by
+        ``turn_deg`` ``(N+M, J)``: ``reach·|Δθ_0| + ρ·|Δθ_1|`` (radians), 0 for obstacles."""
+        turn = np.radians(np.abs(turn_deg[: self.n]))
+        out = self.reach * turn[:, 0]
+        if turn.shape[1] > 1:
+            out = out + self.radius * turn[:, 1:].sum(axis=1)
+        return np.concatenate([out, np.zeros(self.m)])
+
+    def pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(ia, ib)``: robot pairs ``a < b`` whose bases are closer than ``reach_a + reach_b +
+        2·max r`` (farther ones never meet), then robot–obstacle pairs ``(p, N + o)`` closer than
+        ``reach_p + r_p + r_o``."""
+        n, buf = self.n, self.buffers
+        rmax = float(self.reach.max(initial=0.0))
+        ia, ib = _close_pairs(self.bases, 2 * rmax + 2 * buf[:n].max(initial=0.0))
+        near = np.hypot(*(self.bases[ia] - self.bases[ib]).T) < self.reach[ia] + self.reach[ib] + 2 * buf[:n].max(initial=0.0)
+        ia, ib = ia[near], ib[near]
+        if self.m and n:
+            o = self.obstacles
+            d = _to_segment(self.bases[:, None, :], o[None, :, 0], o[None, :, 1] - o[None, :, 0],
+                            _dot(o[:, 1] - o[:, 0], o[:, 1] - o[:, 0])[None, :])
+            pa, po = np.nonzero(d < self.reach[:, None] + buf[:n, None] + buf[None, n:])
+            ia, ib = np.concatenate([ia, pa]), np.concatenate([ib, n + po])
+        return ia, ib
+
+    def segments(self, e: np.ndarray, angles: np.ndarray) -> np.ndarray:
+        """Absolute segments ``(K, S, 2, 2)`` of entities ``e`` ``(K,)`` at angles ``(K, S, J)``."""
+        g = self.group[e]
+        if len(self.kins) == 1 and not self.m:
+            return self.kins[0].segments_at_deg(angles) + self.bases[e][:, None, None, :]
+        out = np.empty(angles.shape[:-1] + (2, 2))
+        for gi, kin in enumerate(self.kins):
+            sel = g == gi
+            if sel.any():
+                out[sel] = kin.segments_at_deg(angles[sel]) + self.bases[e[sel]][:, None, None, :]
+        obs = g < 0
+        if obs.any():
+            out[obs] = self.obstacles[e[obs] - self.n][:, None, :, :]
+        return out
+
+
+def _step_distances(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, ia: np.ndarray, ib: np.ndarray,
+                    travel: np.ndarray, need: np.ndarray,
+                    resolution: float) -> tuple[np.ndarray, np.ndarray, tuple[int, float]]:
+    """Least distance of each pair ``(ia, ib)`` over the step ``a0 + t·turn`` (angles of the
+    entities, :class:`Bodies`), the ``t`` where it occurs (0 when the start is closest) and
+    ``(pairs left open, the deepest collision they could hide)``: sampled so that no point
+    moves more than ``resolution/2`` between samples, then bisected where the samples do not
+    settle ``d ≥ need`` (module docstring)."""
+    moving = np.any(turn != 0, axis=1)
     sel = np.nonzero(moving[ia] | moving[ib])[0]
-    d_static = _pair_distances(kin, bases, c0.astype(float), ia, ib)
+    d_static = _distances_at(bodies, a0, turn, ia, ib, np.zeros((len(ia), 1)))[:, 0]
     dmin, tmin = d_static.copy(), np.zeros(len(ia))
     if not len(sel):
         return dmin, tmin, (0, 0.0)
@@ -113,7 +205,7 @@ def _step_distances(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndar
     per = max(1, _ROWS // len(t))
     for lo in range(0, len(sel), per):
         idx = np.arange(lo, min(lo + per, len(sel)))
-        dist = _distances_at(kin, bases, c0, delta, ia[sel[idx]], ib[sel[idx]], np.broadcast_to(t, (len(idx), len(t))))
+        dist = _distances_at(bodies, a0, turn, ia[sel[idx]], ib[sel[idx]], np.broadcast_to(t, (len(idx), len(t))))
         best = dist.argmin(axis=1)
         dmin[sel[idx]] = dist[np.arange(len(idx)), best]
         tmin[sel[idx]] = t[best]
@@ -136,7 +228,7 @@ def _step_distances(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndar
         batch, work = work[:_ROWS], work[_ROWS:]
         j = batch[:, 0].astype(int)
         mid = (batch[:, 1] + batch[:, 2]) / 2
-        dm = _distances_at(kin, bases, c0, delta, ia[sel[j]], ib[sel[j]], mid[:, None])[:, 0]
+        dm = _distances_at(bodies, a0, turn, ia[sel[j]], ib[sel[j]], mid[:, None])[:, 0]
         better = dm < dmin[sel[j]]
         np.minimum.at(dmin, sel[j], dm)
         tmin[sel[j[better]]] = mid[better]
@@ -153,15 +245,13 @@ def _step_distances(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndar
     return dmin, tmin, (int(open_pairs.sum()), float(depth[open_pairs].max(initial=0.0)))
 
 
-def _distances_at(kin: dict, bases: np.ndarray, c0: np.ndarray, delta: np.ndarray, a: np.ndarray, b: np.ndarray,
+def _distances_at(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, a: np.ndarray, b: np.ndarray,
                   t: np.ndarray) -> np.ndarray:
-    """Distances of the pairs ``(a[i], b[i])`` at the times ``t[i, :]`` of the step ``c0 + t·delta``."""
-    qa = c0[a][:, None, :] + t[:, :, None] * delta[a][:, None, :]
-    qb = c0[b][:, None, :] + t[:, :, None] * delta[b][:, None, :]
-    a0, a1, _, _ = _arm(kin, qa)
-    b0, b1, _, _ = _arm(kin, qb)
-    ba, bb = bases[a][:, None, :], bases[b][:, None, :]
-    return segment_distance_ericson(a0 + ba, a1 + ba, b0 + bb, b1 + bb)
+    """Distances of the pairs ``(a[i], b[i])`` at the times ``t[i, :]`` of the step ``a0 + t·turn``."""
+    qa = a0[a][:, None, :] + t[:, :, None] * turn[a][:, None, :]
+    qb = a0[b][:, None, :] + t[:, :, None] * turn[b][:, None, :]
+    sa, sb = bodies.segments(a, qa), bodies.segments(b, qb)
+    return segment_distance_ericson(sa[..., 0, :], sa[..., 1, :], sb[..., 0, :], sb[..., 1, :])
 
 
 def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarray]:
@@ -177,7 +267,111 @@ def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarra
     return np.concatenate(out_a), np.concatenate(out_b)
 
 
-def _pair_distances(kin: dict, bases: np.ndarray, c: np.ndarray, ia: np.ndarray, ib: np.ndarray) -> np.ndarray:
-    s0, s1, _, _ = _arm(kin, c)
-    s0, s1 = s0 + bases, s1 + bases
-    return segment_distance_ericson(s0[ia], s1[ia], s0[ib], s1[ib])
+# --- plans given by angles or trajectories ---------------------------------------------------
+
+def _wrapping(problem: Problem) -> np.ndarray:
+    """``(N, J)``: does joint ``j`` of robot ``p`` wrap?"""
+    return np.array([[j.wraps for j in problem.kin(p).joints] for p in range(problem.n)], dtype=bool).reshape(
+        problem.n, problem.kinematics.n_joints)
+
+
+def _short_way(d: np.ndarray) -> np.ndarray:
+    return np.mod(d + 180.0, 360.0) - 180.0
+
+
+def _pose_steps(poses: list[np.ndarray], wraps: np.ndarray | None) -> Callable[[int], tuple[np.ndarray, np.ndarray]]:
+    """Steps between angle poses: literal differences, or the short way round where ``wraps``."""
+    def step(k: int) -> tuple[np.ndarray, np.ndarray]:
+        if k + 1 >= len(poses):
+            return poses[k], np.zeros_like(poses[k])
+        d = poses[k + 1] - poses[k]
+        return poses[k], (d if wraps is None else np.where(wraps, _short_way(d), d))
+    return step
+
+
+def _angles_off(problem: Problem, got: np.ndarray, want: np.ndarray, rows: int | None = None) -> np.ndarray:
+    """Rows (robots; or the poses of robot ``rows``) whose angles ``got`` differ from ``want`` by
+    more than :data:`ANGLE_TOL` (modulo 360 where the joint wraps)."""
+    d = got - want
+    wraps = _wrapping(problem)
+    d = np.where(wraps if rows is None else wraps[rows], _short_way(d), d)
+    return np.nonzero(np.any(~(np.abs(d) <= ANGLE_TOL), axis=1))[0]
+
+
+def _check_angle_poses(problem: Problem, poses: np.ndarray, name: str, problems: list[str]) -> int:
+    """Start, target and joint ranges of angle poses ``(T+1, N, J)``; the robots at target."""
+    bad = _angles_off(problem, poses[0], problem.angles_deg(problem.start))
+    if len(bad):
+        problems.append(f"{name}: the plan does not start at the start (positioners {_ids(bad)} are more than "
+                        f"{ANGLE_TOL:g} deg off)")
+    bad = _angles_off(problem, poses[-1], problem.angles_deg(problem.target))
+    if len(bad):
+        problems.append(f"{name}: the plan does not end at the target (positioners {_ids(bad)} are more than "
+                        f"{ANGLE_TOL:g} deg off)")
+    lo = np.full(poses.shape[1:], -np.inf)
+    hi = np.full(poses.shape[1:], np.inf)
+    for p in range(problem.n):
+        k = problem.kin(p)
+        for j, jt in enumerate(k.joints):
+            rng = getattr(k, "alpha_range" if j == 0 else "beta_range", None) if k.kind == "alpha-beta" else None
+            if not jt.wraps and rng is not None:
+                lo[p, j], hi[p, j] = rng
+    out = np.any((poses < lo - ANGLE_TOL) | (poses > hi + ANGLE_TOL), axis=2)
+    for k in np.nonzero(out.any(axis=1))[0][:3]:
+        problems.append(f"{name}: pose {k}: positioners {_ids(np.nonzero(out[k])[0])} are out of the joint ranges")
+    return problem.n - len(bad)
+
+
+def _check_held_and_rules(problem: Problem, robot_angles: Callable[[int], np.ndarray], name: str,
+                          problems: list[str]) -> None:
+    """Offline robots (``problem.held``) never leave their start angles; no robot under a joint
+    rule (``problem.joint_rules``: ``β < c0 + c1·α`` forbidden, degrees) enters its forbidden
+    half-plane (a step is linear in angle, so checking the poses checks the motion).
+    ``robot_angles(p)``: robot ``p``'s angles at every pose ``(T+1, J)``."""
+    held, rules = getattr(problem, "held", None) or {}, getattr(problem, "joint_rules", None) or {}
+    start = problem.angles_deg(problem.start) if held else None
+    moved = [p for p in sorted(held) if len(_angles_off(problem, robot_angles(p),
+                                                        np.broadcast_to(start[p], (1, start.shape[1])), rows=p))]
+    broken = [p for p in sorted(rules)
+              if np.any((a := robot_angles(p))[:, 1] < rules[p][0] + rules[p][1] * a[:, 0] - ANGLE_TOL)]
+    if moved:
+        problems.append(f"{name}: offline positioners {_ids(moved)} move")
+    if broken:
+        problems.append(f"{name}: positioners {_ids(broken)} enter the forbidden region of their joint rule "
+                        f"(beta < c0 + c1 * alpha)")
+
+
+def _trajectory_arrays(trajs: Any, names: list[str], n: int) -> list[dict[str, np.ndarray]] | None:
+    """The trajectories as ``{joint: (K, 2) array}`` per robot, or None (none, or not this problem's)."""
+    if trajs is None or not isinstance(trajs, (list, tuple)) or len(trajs) != n:
+        return None
+    out = []
+    for robot in trajs:
+        if not isinstance(robot, dict) or set(robot) != set(names):
+            return None
+        try:
+            arrays = {name: np.asarray(robot[name], dtype=float).reshape(-1, 2) for name in names}
+        except (TypeError, ValueError):
+            return None
+        if any(len(a) == 0 or not np.all(np.isfinite(a)) or np.any(np.diff(a[:, 0]) <= 0) for a in arrays.values()):
+            return None
+        out.append(arrays)
+    return out
+
+
+def _trajectory_poses(trajs: list[dict[str, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """The union of all breakpoint times and every robot's angles there ``(U, N, J)``, each
+    joint linear in time between its breakpoints and held before the first and after the last."""
+    names = list(trajs[0])
+    times = np.unique(np.concatenate([a[:, 0] for robot in trajs for a in robot.values()]))
+    poses = np.empty((len(times), len(trajs), len(names)))
+    for p, robot in enumerate(trajs):
+        for j, name in enumerate(names):
+            poses[:, p, j] = np.interp(times, robot[name][:, 0], robot[name][:, 1])
+    return times, poses
+
+
+def _ids(idx: Any, limit: int = 10) -> str:
+    idx = [int(i) for i in idx]
+    text = ", ".join(map(str, idx[:limit]))
+    return text + (f", ... ({len(idx)} in all)" if len(idx) > limit else "")
