@@ -11,7 +11,10 @@ semantics.  It imports none of :mod:`supcoord.geometry`, :mod:`supcoord.planning
 :mod:`supcoord.problems` — only numpy and :mod:`supcoord.errors` — so that "the planner
 agrees with the oracle" checks the geometry, not a model against its own encoding.
 
-Input: a problem's JSON (``Problem.to_json()``); entry points in :mod:`.api`.
+Input: a problem's JSON (``Problem.to_json()``, or as written: starts and targets as
+indices, ``alpha_beta_deg`` or ``xy_mm``; ``alpha_range``; ``collision.margin``); each
+robot then moves on its own lattice holding its exact start and target angles
+(:func:`.model.exact_lattice`); entry points in :mod:`.api`.
 
 >>> p = {"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
 ...      "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
@@ -25,6 +28,10 @@ Input: a problem's JSON (``Problem.to_json()``); entry points in :mod:`.api`.
 from .api import (
     oracle_bases,
     oracle_bounds,
+    oracle_check_moves,
+    oracle_check_steps,
+    oracle_ends_deg,
+    oracle_lattices_deg,
     oracle_motion,
     oracle_moves,
     oracle_optimal_makespan,
@@ -45,6 +52,10 @@ __all__ = [
     "OracleUndecided",
     "oracle_bases",
     "oracle_bounds",
+    "oracle_check_moves",
+    "oracle_check_steps",
+    "oracle_ends_deg",
+    "oracle_lattices_deg",
     "oracle_motion",
     "oracle_moves",
     "oracle_optimal_makespan",

@@ -84,7 +84,7 @@ class Space:
         self.pairs: list[tuple[int, int, PairTables]] = []
         for a, b in itertools.combinations(range(self.k), 2):
             pa, pb = self.members[a], self.members[b]
-            t = self._tables(prob.bases[pb] - prob.bases[pa], prob.buffers[pa] + prob.buffers[pb])
+            t = self._tables(prob.bases[pb] - prob.bases[pa], prob.need(pa, pb), prob.arm_of(pa), prob.arm_of(pb))
             if not t.far:
                 self.pairs.append((a, b, t))
         for name, conf in (("start", prob.start), ("target", prob.target)):
@@ -95,10 +95,16 @@ class Space:
                                            f"{self.members[b]} are {d:.6f} mm apart, less than {t.need}",
                                            value=[self.members[a], self.members[b]])
 
-    def _tables(self, offset: complex, need: float) -> PairTables:
+    def _tables(self, offset: complex, need: float, arm_a=None, arm_b=None) -> PairTables:
+        """The tables of a pair, shared by (offset, need) between pairs of identical robots and
+        by (offset, need, a's arm, b's arm) where robots have their own lattices."""
+        arm_a = self.prob.arm if arm_a is None else arm_a
+        arm_b = self.prob.arm if arm_b is None else arm_b
         key = (offset.real, offset.imag, float(need))
+        if arm_a is not self.prob.arm or arm_b is not self.prob.arm:
+            key += (arm_a, arm_b)
         if key not in self.cache:
-            self.cache[key] = PairTables(self.prob.arm, offset, need)
+            self.cache[key] = PairTables(arm_a, offset, need, arm_b)
         return self.cache[key]
 
     def encode(self, ids: list[int]) -> int:
@@ -189,6 +195,60 @@ class Space:
             return out, undecided
 
         return self._two_sided(succ, True, False, lambda code: combos[code])
+
+    # -- checking a given plan -----------------------------------------------------------
+    def check_moves(self, moves: list[tuple[int, int, int]]) -> int | None:
+        """Replay single moves ``(positioner, joint, ±1)`` of members from the start: the
+        index of the first one past a hard stop or not certified free (``HIT`` or
+        ``UNDECIDED``), ``len(moves)`` if they end elsewhere than the target, else ``None``."""
+        nxt, blk = self._blocked()
+        kinds = self.moves()
+        where = {p: a for a, p in enumerate(self.members)}
+        conf = [self.prob.start[p] for p in self.members]
+        for k, (p, j, d) in enumerate(moves):
+            if int(p) not in where or (int(j), int(d)) not in kinds:
+                return k
+            a, m = where[int(p)], kinds.index((int(j), int(d)))
+            new = int(nxt[m][conf[a]])
+            if new < 0:
+                return k
+            for (mover, other), table in blk.items():
+                if mover == a and table[m][conf[a], conf[other]] != FREE:
+                    return k
+            conf[a] = new
+        return None if conf == [self.prob.target[p] for p in self.members] else len(moves)
+
+    def check_steps(self, configurations: list) -> int | None:
+        """Check a schedule of configurations (``(N, J)`` joint indices, every robot) under
+        the simultaneous semantics: the index of the first step whose joints move by more
+        than one position or whose motion is not certified free for some pair (``k`` for the
+        step ``k → k + 1``), ``len(configurations)`` if it does not run from the start to the
+        target, else ``None``."""
+        arm = self.prob.arm
+        steps = np.array(arm.steps)
+        confs = [np.asarray(c, dtype=np.int64).reshape(self.prob.n, arm.n_joints)[self.members]
+                 for c in configurations]
+        ids = [[arm.position_id(q) for q in c] for c in confs]
+        if not confs or ids[0] != [self.prob.start[p] for p in self.members] or \
+                ids[-1] != [self.prob.target[p] for p in self.members]:
+            return len(configurations)
+        for k in range(len(confs) - 1):
+            q0, q1 = confs[k], confs[k + 1]
+            if np.any((q1 < 0) | (q1 >= steps)):
+                return k
+            delta = q1 - q0
+            for j, w in enumerate(arm.wraps):
+                if w:
+                    delta[:, j] = (delta[:, j] + 1) % steps[j] - 1
+            if np.any(np.abs(delta) > 1):
+                return k
+            for a, b, t in self.pairs:
+                if not delta[a].any() and not delta[b].any():
+                    continue  # the configuration itself: free as the end of the step before
+                verdict = t.motion(q0[a][None], delta[a][None], q0[b][None], delta[b][None], None, None)
+                if verdict[0] != FREE:
+                    return k
+        return None
 
     # -- breadth-first search ------------------------------------------------------------
     def _two_sided(self, succ, goal: bool, path: bool, label, bounds: bool = False):

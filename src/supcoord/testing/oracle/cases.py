@@ -15,6 +15,15 @@
 
 A seed ending in 7 (one in ten) uses *round* numbers instead (arm 15, bases 19 apart,
 buffers 2: arms that touch at exactly the buffer sum), the ties of the collision rule.
+
+``tight_angle_problem(seed, n)`` draws problems of the extensions for real instruments:
+alpha-beta robots (2–5; ``alpha_steps`` 4–8, ``beta_steps`` 3–5) whose starts and targets
+are exact joint angles (``alpha_beta_deg``; sometimes one side as indices, sometimes as
+fibre positions ``xy_mm`` with a handedness), so every robot gets its own lattice; the
+alpha joint wraps or has hard stops (``alpha_range``, often ``[0, 360]``); sometimes a
+``collision.margin``.  Starts and targets are drawn robot by robot, uniformly over the
+joint ranges (or among the uniform positions), clear of the robots already placed by
+10⁻⁶ mm more than the rule needs (the oracle's own segment distance).
 Nothing here imports the project's geometry.
 """
 
@@ -25,11 +34,13 @@ from typing import Any
 
 import numpy as np
 
-from .model import Arm, OracleInputError, hex_bases
+from .angles import uniform_deg
+from .distance import segment_gap
+from .model import Arm, OracleInputError, OracleProblem, hex_bases
 from .sweep import TIE
 from .tables import PairTables
 
-__all__ = ["KINDS", "MAX_PRODUCT", "tight_problem"]
+__all__ = ["ANGLE_MAX_PRODUCT", "KINDS", "MAX_PRODUCT", "tight_angle_problem", "tight_problem"]
 
 #: the largest number of configurations of a drawn problem
 MAX_PRODUCT = 1_000_000
@@ -126,3 +137,150 @@ def tight_problem(seed: int, kind: str | None = None, n: int | None = None,
                 "start": ends[0], "target": ends[1],
                 "name": f"tight {kind} {n} {shape}", "seed": int(seed)}
     raise OracleInputError(f"seed {seed}: no collision-free configuration in 50 layouts", value=seed)
+
+
+#: the largest number of configurations of a drawn angle problem
+ANGLE_MAX_PRODUCT = 250_000
+#: the alpha joint: wrapping (None) or hard stops; beta ranges
+_ALPHA_RANGES = [None, None, None, [0.0, 360.0], [0.0, 360.0], [-180.0, 180.0], [-30.0, 300.0]]
+_BETA_RANGES = [[0.0, 180.0], [0.0, 180.0], [-30.0, 190.0], [120.0, 180.0], [-10.0, 200.0]]
+#: clearance over the rule's need of every drawn start and target (mm): no ties
+_CLEAR = 1e-6
+
+
+def _pose(a: float, b: float, alpha_deg: float, beta_deg: float) -> tuple[complex, complex]:
+    al, be = math.radians(alpha_deg), math.radians(beta_deg)
+    elbow = a * complex(math.cos(al), math.sin(al))
+    return elbow, elbow + b * complex(math.cos(al + be), math.sin(al + be))
+
+
+def _angle_conf(rng: np.random.Generator, kin: dict, bases: list[complex], need: np.ndarray, grid: bool,
+                avoid: dict | None = None) -> list[tuple[float, float]] | None:
+    """Collision-free exact angles, robot by robot; ``grid``: uniform positions only."""
+    a, b = kin["alpha"], kin["beta"]
+    arange = kin.get("alpha_range")
+    alo, ahi = (0.0, 360.0) if arange is None else arange
+    blo, bhi = kin["beta_range"]
+    ga = uniform_deg(kin["alpha_steps"], arange is None, alo, ahi)
+    gb = uniform_deg(kin["beta_steps"], False, blo, bhi)
+    conf: list[tuple[float, float]] = []
+    segs: list[tuple[complex, complex]] = []
+    for p in range(len(bases)):
+        for _ in range(300):
+            if grid or rng.random() < 0.15:
+                al, be = float(ga[rng.integers(len(ga))]), float(gb[rng.integers(len(gb))])
+            else:
+                al, be = float(rng.uniform(alo, ahi)), float(rng.uniform(blo, bhi))
+                if arange is None:
+                    al %= 360.0
+            e, f = _pose(a, b, al, be)
+            e, f = e + bases[p], f + bases[p]
+            if all(float(segment_gap(e, f, s0, s1)) >= need[p, q] + _CLEAR for q, (s0, s1) in enumerate(segs)):
+                break
+        else:
+            return None
+        conf.append((al, be))
+        segs.append((e, f))
+    return conf
+
+
+def _fibre_ok(kin: dict, conf: list[tuple[float, float]]) -> bool:
+    """Every pose well away from a folded or straight beta arm and the joint ends (inverse
+    kinematics are ill-conditioned there, and rounding could leave a range)."""
+    blo, bhi = kin["beta_range"]
+    arange = kin.get("alpha_range")
+    for al, be in conf:
+        if abs(math.sin(math.radians(be))) < 0.05 or not blo + 0.01 < be < bhi - 0.01:
+            return False
+        if arange is not None and not arange[0] + 0.01 < al < arange[1] - 0.01:
+            return False
+    return True
+
+
+def tight_angle_problem(seed: int, n: int | None = None, max_product: int = ANGLE_MAX_PRODUCT,
+                        tight: tuple[float, float] = (0.25, 0.6)) -> dict[str, Any]:
+    """A random tight problem with exact start and target angles (module docstring) as
+    PROBLEM.json; ``n`` overrides the number of robots (2–5), ``max_product`` bounds the
+    number of configurations, ``tight`` the range of neighbour distance / reach."""
+    rng = np.random.default_rng(seed)
+    sizes = [k for k in (2, 2, 3, 3, 3, 4, 4, 5) if 12**k <= max_product] or [2]
+    n = int(n or rng.choice(sizes))
+    cap = int(max_product ** (1.0 / n) + 1e-9)
+    shapes = [(x, y) for x in range(4, 9) for y in range(3, 6) if x * y <= cap]
+    if not shapes:
+        raise OracleInputError(f"no discretisation of {n} robots within {max_product} configurations",
+                               value=max_product)
+    a_steps, b_steps = shapes[int(rng.integers(len(shapes)))]
+    kin: dict[str, Any] = {"kind": "alpha-beta", "alpha": round(float(rng.uniform(5.0, 9.0)), 3),
+                           "beta": round(float(rng.uniform(9.0, 16.0)), 3), "alpha_steps": int(a_steps),
+                           "beta_steps": int(b_steps),
+                           "beta_range": _BETA_RANGES[int(rng.integers(len(_BETA_RANGES)))]}
+    arange = _ALPHA_RANGES[int(rng.integers(len(_ALPHA_RANGES)))]
+    if arange is not None:
+        kin["alpha_range"] = list(arange)
+    elif a_steps < 4:
+        kin["alpha_steps"] = 4
+    arm = Arm.from_json(kin)
+    margin = round(float(rng.uniform(0.2, 1.5)), 3) if rng.random() < 0.35 else 0.0
+    for _ in range(50):
+        shape, xy = _layout(rng, n, arm.reach, False, tight)
+        buffer: Any = (round(float(rng.uniform(0.8, 3.0)), 3) if rng.random() < 0.6
+                       else [round(float(v), 3) for v in rng.uniform(0.8, 3.0, n)])
+        bases = [complex(x, y) for x, y in xy]
+        buf = np.broadcast_to(np.asarray(buffer, dtype=float), (n,))
+        need = buf[:, None] + buf[None, :] + margin
+        forms = ["deg", "deg"]
+        r = rng.random()
+        if r < 0.25:
+            forms[int(rng.integers(2))] = "index"
+        elif r < 0.5:
+            forms[int(rng.integers(2))] = "xy"
+        elif r < 0.6:
+            forms = ["xy", "xy"]
+        ends = []
+        for form in forms:
+            ends.append(_angle_conf(rng, kin, bases, need, grid=form == "index"))
+        if any(e is None for e in ends):
+            continue
+        sides = []
+        for form, conf in zip(forms, ends):
+            if form == "xy" and not _fibre_ok(kin, conf):
+                form = "deg"
+            if form == "index":
+                ga = uniform_deg(kin["alpha_steps"], arange is None, *(arange or (0.0, 360.0)))
+                gb = uniform_deg(kin["beta_steps"], False, *kin["beta_range"])
+                sides.append([[int(np.argmin(np.abs(ga - al))), int(np.argmin(np.abs(gb - be)))] for al, be in conf])
+            elif form == "xy":
+                pts, hands = [], []
+                for p, (al, be) in enumerate(conf):
+                    _, f = _pose(kin["alpha"], kin["beta"], al, be)
+                    f += bases[p]
+                    pts.append([float(f.real), float(f.imag)])
+                    hands.append("right" if math.sin(math.radians(be)) > 0 else "left")
+                if len(set(hands)) == 1 and hands[0] == "right":
+                    hand = "right" if rng.random() < 0.5 else "any"
+                elif len(set(hands)) == 1:
+                    hand = "left"
+                else:  # mixed handedness: give angles instead
+                    sides.append({"alpha_beta_deg": [[al, be] for al, be in conf]})
+                    continue
+                sides.append({"xy_mm": pts, "handedness": hand})
+            else:
+                rows = []
+                for al, be in conf:  # a wrapping alpha may come as any turn
+                    if arange is None and rng.random() < 0.2:
+                        al = al + 360.0 * float(rng.choice([-1, 1]))
+                    rows.append([al, be])
+                sides.append({"alpha_beta_deg": rows})
+        collision: dict[str, Any] = {"buffer": buffer}
+        if margin:
+            collision["margin"] = margin
+        data = {"layout": {"kind": "points", "xy": xy}, "kinematics": kin, "collision": collision,
+                "start": sides[0], "target": sides[1],
+                "name": f"tight angles {n} {shape} {'/'.join(forms)}", "seed": int(seed)}
+        try:
+            OracleProblem.from_json(data)
+        except OracleInputError:
+            continue
+        return data
+    raise OracleInputError(f"seed {seed}: no collision-free angles in 50 layouts", value=seed)

@@ -16,7 +16,14 @@ the plane are **complex numbers** ``x + iy`` throughout.
 - **Alpha-beta** (``alpha`` a, ``beta`` b, ``alpha_steps`` A, ``beta_steps`` B,
   ``beta_range`` [lo, hi] degrees): ``α = 2πi/A`` (wraps), ``β = lo + (hi − lo)·j/(B − 1)``
   (hard stops); the colliding segment is ``[a·e^{iα}, a·e^{iα} + b·e^{i(α+β)}]``.
-- **Motion** between positions is linear in joint space: ``q + t·δ``, ``t ∈ [0, 1]``.
+  With ``alpha_range`` [lo, hi] (degrees) the alpha joint has hard stops and does not wrap:
+  ``α = lo + (hi − lo)·i/(A − 1)``.
+- **Own lattices** (a ``start`` or ``target`` given as ``alpha_beta_deg`` or ``xy_mm``,
+  :func:`.angles.exact_lattice`): every robot's joint positions are the uniform ones with the
+  slots nearest to its start and target angles replaced by those angles exactly; a joint
+  turns linearly in angle between neighbouring positions (:attr:`Arm.tables`).
+- **Motion** between positions is linear in joint space: ``q + t·δ``, ``t ∈ [0, 1]``
+  (with own lattices: linear in angle within each step, which is what a step is).
 - **Levers** (what makes the swept check certified, :mod:`.sweep`): turning joint ``j``
   by ``ω`` radians moves a point of the colliding segment by at most ``ω·lever_j``,
   where ``lever_j`` is the largest distance of such a point from the joint's axis over
@@ -42,22 +49,19 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from ...errors import InputError
+from .angles import exact_lattice, side_angles, uniform_deg
+from .refusal import OracleInputError
 
 __all__ = ["Arm", "OracleInputError", "OracleProblem", "hex_bases"]
 
 #: axial directions of the six edges of a ring, counter-clockwise from the corner on +x
 _EDGE_STEPS = ((-1, 1), (-1, 0), (0, -1), (1, -1), (1, 0), (0, 1))
 _OMEGA = complex(0.5, math.sqrt(3.0) / 2.0)
-
-
-class OracleInputError(InputError):
-    """A problem the oracle cannot take (missing field, out of range, colliding start)."""
 
 
 def hex_bases(rings: int, pitch: float) -> np.ndarray:
@@ -73,10 +77,21 @@ def hex_bases(rings: int, pitch: float) -> np.ndarray:
     return pitch * (axial[:, 0] + axial[:, 1] * _OMEGA)
 
 
+def _interp_deg(x: np.ndarray, table: tuple[float, ...], wraps: bool) -> np.ndarray:
+    """Piecewise-linear angle (degrees) of fractional positions over an own lattice; a
+    wrapping joint goes on past its ends (position ``n`` is ``table[0] + 360``)."""
+    t = np.asarray(table, dtype=float)
+    n = len(t)
+    if not wraps:
+        return np.interp(x, np.arange(n), t)
+    return np.interp(x, np.arange(-1, n + 1), np.concatenate([[t[-1] - 360.0], t, [t[0] + 360.0]]))
+
+
 @dataclass(frozen=True)
 class Arm:
     """One discretised positioner (module docstring): joint ``steps``, ``wraps``, radians
-    per step, the angle of index 0, arm ``lengths`` and per-joint ``levers``."""
+    per step, the angle of index 0, arm ``lengths`` and per-joint ``levers``; ``tables``:
+    per joint its own lattice in degrees (``None``: uniform, ``zero + per_step·i``)."""
 
     kind: str
     lengths: tuple[float, ...]
@@ -84,6 +99,7 @@ class Arm:
     wraps: tuple[bool, ...]
     per_step: tuple[float, ...]
     zero: tuple[float, ...]
+    tables: tuple[tuple[float, ...] | None, ...] | None = None
 
     @staticmethod
     def from_json(spec: Any) -> Arm:
@@ -102,11 +118,21 @@ class Arm:
                 lo, hi = (math.radians(float(x)) for x in spec.get("beta_range", (0.0, 180.0)))
                 if not (a > 0 and b > 0 and na >= 2 and nb >= 2 and lo < hi):
                     raise OracleInputError("alpha-beta: positive arms, >= 2 steps, lo < hi required", value=spec)
-                return Arm("alpha-beta", (a, b), (na, nb), (True, False), (2 * math.pi / na, (hi - lo) / (nb - 1)),
-                           (0.0, lo))
+                if spec.get("alpha_range") is None:
+                    return Arm("alpha-beta", (a, b), (na, nb), (True, False),
+                               (2 * math.pi / na, (hi - lo) / (nb - 1)), (0.0, lo))
+                alo, ahi = (math.radians(float(x)) for x in spec["alpha_range"])
+                if not alo < ahi:
+                    raise OracleInputError("alpha-beta: alpha_range lo < hi required", value=spec)
+                return Arm("alpha-beta", (a, b), (na, nb), (False, False),
+                           ((ahi - alo) / (na - 1), (hi - lo) / (nb - 1)), (alo, lo))
         except KeyError as exc:
             raise OracleInputError(f"kinematics.{exc.args[0]} is missing", value=spec) from None
         raise OracleInputError(f"unknown kinematics kind {kind!r}", value=kind)
+
+    def with_tables(self, tables_deg: Sequence[Sequence[float] | None]) -> Arm:
+        """The same arm on its own lattice (``tables_deg``: per joint, degrees, or ``None``)."""
+        return replace(self, tables=tuple(None if t is None else tuple(float(v) for v in t) for t in tables_deg))
 
     @property
     def n_joints(self) -> int:
@@ -126,10 +152,41 @@ class Arm:
             out = out * s + int(v)
         return out
 
+    def _table(self, j: int) -> tuple[float, ...] | None:
+        return None if self.tables is None else self.tables[j]
+
     def angles(self, q: np.ndarray) -> list[np.ndarray]:
         """Joint angles (radians) of fractional positions ``q`` ``(..., J)``."""
         q = np.asarray(q, dtype=float)
-        return [z + w * q[..., j] for j, (z, w) in enumerate(zip(self.zero, self.per_step))]
+        out = []
+        for j, (z, w) in enumerate(zip(self.zero, self.per_step)):
+            t = self._table(j)
+            out.append(z + w * q[..., j] if t is None else np.radians(_interp_deg(q[..., j], t, self.wraps[j])))
+        return out
+
+    def turn(self, q: np.ndarray, joint: np.ndarray, d: np.ndarray) -> np.ndarray:
+        """Signed radians joint ``joint[e]`` turns moving from ``q[e]`` by ``d[e]`` (rows)."""
+        q = np.asarray(q, dtype=float)
+        joint = np.asarray(joint)
+        d = np.asarray(d, dtype=float)
+        out = np.array([self.per_step[j] for j in joint], dtype=float) * d
+        for j in range(self.n_joints):
+            t = self._table(j)
+            sel = joint == j
+            if t is not None and sel.any():
+                x = q[sel, j]
+                out[sel] = np.radians(_interp_deg(x + d[sel], t, self.wraps[j]) - _interp_deg(x, t, self.wraps[j]))
+        return out
+
+    def max_step(self, j: int) -> float:
+        """The largest turn (radians) of one move of joint ``j``."""
+        t = self._table(j)
+        if t is None:
+            return abs(self.per_step[j])
+        steps = np.diff(np.asarray(t, dtype=float))
+        if self.wraps[j]:
+            steps = np.append(steps, t[0] + 360.0 - t[-1])
+        return math.radians(float(steps.max()))
 
     def segment(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The colliding segment's ends ``(p0, p1)`` relative to the base (complex) for ``q`` ``(..., J)``."""
@@ -148,7 +205,8 @@ class Arm:
 
     @property
     def reach(self) -> float:
-        """The true reach (module docstring)."""
+        """The true reach (module docstring): over the whole beta range, so an own lattice
+        (inside that range) does not change it."""
         if self.kind == "rotary":
             return self.lengths[0]
         a, b = self.lengths
@@ -163,9 +221,11 @@ class Arm:
 
     def speed(self, delta: np.ndarray) -> np.ndarray:
         """Bound on how far any point of the colliding segment moves per unit ``t`` along
-        ``q + t·delta`` (``delta`` ``(..., J)``): ``Σ_j |δ_j|·|radians per step_j|·lever_j``."""
+        ``q + t·delta`` (``delta`` ``(..., J)``): ``Σ_j |δ_j|·|largest radians per step_j|·lever_j``."""
         delta = np.abs(np.asarray(delta, dtype=float))
-        return sum(delta[..., j] * abs(w) * lev for j, (w, lev) in enumerate(zip(self.per_step, self.levers)))
+        if self.tables is None:
+            return sum(delta[..., j] * abs(w) * lev for j, (w, lev) in enumerate(zip(self.per_step, self.levers)))
+        return sum(delta[..., j] * self.max_step(j) * lev for j, lev in enumerate(self.levers))
 
     def successors(self, deltas: np.ndarray) -> np.ndarray:
         """``nxt[u, i]``: the id after position ``i`` moves every joint by ``deltas[u]``
@@ -190,17 +250,30 @@ class Arm:
 
 @dataclass
 class OracleProblem:
-    """Bases (complex), the arm, buffers, start and target position ids, from PROBLEM.json."""
+    """Bases (complex), the arm, buffers, start and target position ids, from PROBLEM.json;
+    ``arms``: each robot's own arm (its own lattice) where the problem gives angles
+    (``None``: every robot is ``arm``); ``margin``: clearance on top of the buffers (mm)."""
 
     bases: np.ndarray
     arm: Arm
     buffers: np.ndarray
     start: list[int]
     target: list[int]
+    arms: list[Arm] | None = None
+    margin: float = 0.0
+    #: per robot the exact (α, β) of its start and target (degrees), with own lattices
+    angles: tuple[list[tuple[float, float]], list[tuple[float, float]]] | None = None
 
     @property
     def n(self) -> int:
         return len(self.bases)
+
+    def arm_of(self, p: int) -> Arm:
+        return self.arm if self.arms is None else self.arms[p]
+
+    def need(self, a: int, b: int) -> float:
+        """The least distance robots ``a`` and ``b`` must keep: ``r_a + r_b + margin``."""
+        return float(self.buffers[a] + self.buffers[b]) + self.margin
 
     @staticmethod
     def from_json(data: Any) -> OracleProblem:
@@ -211,6 +284,9 @@ class OracleProblem:
             start, target = data["start"], data["target"]
         except (KeyError, TypeError) as exc:
             raise OracleInputError(f"field {exc} is missing (the oracle reads Problem.to_json())", value=None) from None
+        margin = float(data["collision"].get("margin", 0.0))
+        if not margin >= 0:
+            raise OracleInputError(f"collision.margin must be >= 0, got {margin}", value=margin)
         if layout.get("kind") == "hex":
             bases = hex_bases(int(layout["rings"]), float(layout["pitch"]))
         elif layout.get("kind") == "points":
@@ -221,15 +297,54 @@ class OracleProblem:
         arm = Arm.from_json(kin)
         n = len(bases)
         buffers = np.broadcast_to(np.asarray(buf, dtype=float), (n,)).copy()
+        if isinstance(start, dict) or isinstance(target, dict):
+            return OracleProblem._with_lattices(bases, arm, kin, buffers, margin, start, target)
         ids = []
         for name, conf in (("start", start), ("target", target)):
-            if len(conf) != n:
-                raise OracleInputError(f"{name} has {len(conf)} positions for {n} positioners", value=conf)
-            row = []
-            for q in conf:
-                q = [q] if arm.kind == "rotary" else list(q)
-                if len(q) != arm.n_joints or not all(0 <= int(v) < s for v, s in zip(q, arm.steps)):
-                    raise OracleInputError(f"{name}: position {q} out of range", value=q)
-                row.append(arm.position_id(q))
-            ids.append(row)
-        return OracleProblem(bases, arm, buffers, ids[0], ids[1])
+            ids.append(index_ids(arm, name, conf, n))
+        return OracleProblem(bases, arm, buffers, ids[0], ids[1], margin=margin)
+
+
+    @staticmethod
+    def _with_lattices(bases: np.ndarray, arm: Arm, kin: dict, buffers: np.ndarray, margin: float, start: Any,
+                       target: Any) -> OracleProblem:
+        """Every robot on its own lattice holding its exact start and target angles (:mod:`.angles`)."""
+        if arm.kind != "alpha-beta":
+            raise OracleInputError("angles need alpha-beta kinematics", value=arm.kind)
+        n = len(bases)
+        arange = kin.get("alpha_range")
+        alo, ahi = (0.0, 360.0) if arange is None else (float(arange[0]), float(arange[1]))
+        blo, bhi = (float(x) for x in kin.get("beta_range", (0.0, 180.0)))
+        grids = (uniform_deg(arm.steps[0], arm.wraps[0], alo, ahi), uniform_deg(arm.steps[1], False, blo, bhi))
+        ends = []
+        for name, conf in (("start", start), ("target", target)):
+            if isinstance(conf, dict):
+                ends.append(side_angles(name, conf, kin, arm.lengths, bases))
+            else:  # indices: the uniform positions
+                ends.append([(float(grids[0][i // arm.steps[1]]), float(grids[1][i % arm.steps[1]]))
+                             for i in index_ids(arm, name, conf, n)])
+        arms, ids = [], ([], [])
+        shared: dict[Arm, Arm] = {}
+        for p in range(n):
+            (sa, sb), (ta, tb) = ends[0][p], ends[1][p]
+            tab_a, (ia_s, ia_t) = exact_lattice(grids[0], [sa, ta], arm.wraps[0])
+            tab_b, (ib_s, ib_t) = exact_lattice(grids[1], [sb, tb], False)
+            own = arm.with_tables((tab_a, tab_b))
+            arms.append(shared.setdefault(own, own))
+            ids[0].append(ia_s * arm.steps[1] + ib_s)
+            ids[1].append(ia_t * arm.steps[1] + ib_t)
+        return OracleProblem(bases, arm, buffers, ids[0], ids[1], arms=arms, margin=margin, angles=(ends[0], ends[1]))
+
+
+def index_ids(arm: Arm, name: str, conf: Any, n: int) -> list[int]:
+    if not isinstance(conf, list):
+        raise OracleInputError(f"{name} must be a list of positions or an object with angles", value=conf)
+    if len(conf) != n:
+        raise OracleInputError(f"{name} has {len(conf)} positions for {n} positioners", value=conf)
+    row = []
+    for q in conf:
+        q = [q] if arm.kind == "rotary" else list(q)
+        if len(q) != arm.n_joints or not all(0 <= int(v) < s for v, s in zip(q, arm.steps)):
+            raise OracleInputError(f"{name}: position {q} out of range", value=q)
+        row.append(arm.position_id(q))
+    return row

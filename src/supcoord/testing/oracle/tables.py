@@ -1,10 +1,11 @@
 """The oracle's collision tables of one pair of positioners, three-valued.
 
-For positioners ``a`` (base ``x_a``) and ``b`` (base ``x_b``) with the same arm, write
-``o = x_b − x_a`` and ``r = r_a + r_b``; ``S(q)`` is the colliding segment relative to the
-base (:class:`.model.Arm`).  Everything is computed in ``a``'s frame:
+For positioners ``a`` (base ``x_a``, arm ``A``) and ``b`` (base ``x_b``, arm ``B``: the same
+arm, or each its own lattice), write ``o = x_b − x_a`` and ``r = r_a + r_b (+ margin)``;
+``S_a(q)``, ``S_b(q)`` are the colliding segments relative to the bases
+(:class:`.model.Arm`).  Everything is computed in ``a``'s frame:
 
-- **static** ``T[i, j] = dist(S(i), o + S(j)) < r`` (plain evaluation, no motion; a
+- **static** ``T[i, j] = dist(S_a(i), o + S_b(j)) < r`` (plain evaluation, no motion; a
   distance within :data:`.sweep.TIE` of ``r`` is a tie, :meth:`PairTables.static_state`);
 - **edges** of the single-move semantics: ``E[side][k][i, j]`` — the mover (``a`` when
   ``side = 0``, moving from ``i``; ``b`` when ``side = 1``, moving from ``j``) turns joint
@@ -20,8 +21,8 @@ whose motion is one joint of one positioner (a rigid turn) is then decided at it
 critical times (:mod:`.rotation`), unless that least distance is a tie.  What stays
 undecided (ties; several joints moving within 10⁻⁹ mm of ``r``) is counted in
 :attr:`PairTables.counts` and left to :mod:`.bfs`.  Entries of moves past a hard stop
-are ``HIT`` and never read.  A pair whose bases are farther apart than ``2·reach + r`` (with 10⁻⁹ mm to
-spare) never collides: :meth:`PairTables.far` and no table is built.
+are ``HIT`` and never read.  A pair whose bases are farther apart than ``reach_a + reach_b + r`` (with
+10⁻⁹ mm to spare) never collides: :meth:`PairTables.far` and no table is built.
 """
 
 from __future__ import annotations
@@ -43,12 +44,17 @@ def joint_options(arm: Arm) -> np.ndarray:
 
 
 class PairTables:
-    """Tables of one pair geometry ``(arm, o, r)`` (module docstring), computed on demand."""
+    """Tables of one pair geometry ``(arm, o, r, arm_b)`` (module docstring), computed on
+    demand; ``arm_b`` (default ``arm``) is ``b``'s arm, with the same joints and steps."""
 
-    def __init__(self, arm: Arm, offset: complex, need: float):
+    def __init__(self, arm: Arm, offset: complex, need: float, arm_b: Arm | None = None):
         self.arm, self.offset, self.need = arm, complex(offset), float(need)
+        self.arm_b = arm if arm_b is None else arm_b
+        if (self.arm_b.steps, self.arm_b.wraps) != (arm.steps, arm.wraps):
+            raise ValueError("the two arms of a pair must have the same joints and steps")
         self.pos = arm.positions()
         self._seg = arm.segment(self.pos)
+        self._seg_b = self._seg if self.arm_b is arm else self.arm_b.segment(self.pos)
         self._static: np.ndarray | None = None
         self._edges: dict[tuple[int, int], np.ndarray] = {}
         self._simultaneous: np.ndarray | None = None
@@ -57,13 +63,13 @@ class PairTables:
 
     @property
     def far(self) -> bool:
-        return abs(self.offset) > 2 * self.arm.reach + self.need + 1e-9
+        return abs(self.offset) > self.arm.reach + self.arm_b.reach + self.need + 1e-9
 
     def static_gap(self) -> np.ndarray:
-        """``dist(S(i), o + S(j))`` for every ``(i, j)``."""
+        """``dist(S_a(i), o + S_b(j))`` for every ``(i, j)``."""
         if self._static is None:
-            (p0, p1), o = self._seg, self.offset
-            self._static = segment_gap(p0[:, None], p1[:, None], o + p0[None, :], o + p1[None, :])
+            (p0, p1), (q0, q1), o = self._seg, self._seg_b, self.offset
+            self._static = segment_gap(p0[:, None], p1[:, None], o + q0[None, :], o + q1[None, :])
         return self._static
 
     def static(self) -> np.ndarray:
@@ -77,16 +83,16 @@ class PairTables:
     def motion(self, qa: np.ndarray, da: np.ndarray, qb: np.ndarray, db: np.ndarray, d0: np.ndarray,
                 d1: np.ndarray) -> np.ndarray:
         """Three-valued verdicts of the motions ``a: qa + t·da``, ``b: qb + t·db`` (rows)."""
-        arm, o = self.arm, self.offset
+        arm, arm_b, o = self.arm, self.arm_b, self.offset
         qa, qb = qa.astype(float), qb.astype(float)
         da, db = da.astype(float), db.astype(float)
 
         def gap(e: np.ndarray, t: np.ndarray) -> np.ndarray:
             a0, a1 = arm.segment(qa[e] + t[:, None] * da[e])
-            b0, b1 = arm.segment(qb[e] + t[:, None] * db[e])
+            b0, b1 = arm_b.segment(qb[e] + t[:, None] * db[e])
             return segment_gap(a0, a1, o + b0, o + b1)
 
-        lip = arm.speed(da) + arm.speed(db)
+        lip = arm.speed(da) + arm_b.speed(db)
         out = certify(gap, lip, np.full(len(qa), self.need), d0, d1)
         open_ = np.nonzero(out == UNDECIDED)[0]
         moving = (da != 0).sum(axis=1) + (db != 0).sum(axis=1)
@@ -101,23 +107,34 @@ class PairTables:
 
     def least_on_turn(self, qa: np.ndarray, da: np.ndarray, qb: np.ndarray, db: np.ndarray) -> np.ndarray:
         """Exact ``min_t d(t)`` of single-joint motions of one member (:mod:`.rotation`)."""
-        arm, o = self.arm, self.offset
+        arm, arm_b, o = self.arm, self.arm_b, self.offset
+        qa, qb = np.asarray(qa, dtype=float), np.asarray(qb, dtype=float)
         a_moves = np.any(da != 0, axis=1)
         q_mov, d_mov = np.where(a_moves[:, None], qa, qb), np.where(a_moves[:, None], da, db)
         q_still = np.where(a_moves[:, None], qb, qa)
         shift = np.where(a_moves, 0, o)  # the mover's base in a's frame
         joint = np.argmax(d_mov != 0, axis=1)
-        centre = np.array([shift[e] + arm.pivot(q_mov[e], int(joint[e])) for e in range(len(joint))])
-        angle = np.array([arm.per_step[j] for j in joint]) * d_mov[np.arange(len(joint)), joint]
-        m0, m1 = arm.segment(q_mov)
-        s0, s1 = arm.segment(q_still)
+        step = d_mov[np.arange(len(joint)), joint]
+        centre = np.array([shift[e] + (arm if a_moves[e] else arm_b).pivot(q_mov[e], int(joint[e]))
+                           for e in range(len(joint))])
+        if arm_b is arm:
+            angle = arm.turn(q_mov, joint, step)
+            m0, m1 = arm.segment(q_mov)
+            s0, s1 = arm.segment(q_still)
+        else:  # the mover's own lattice and segment, the other's for the one standing still
+            w = a_moves[:, None]
+            angle = np.where(a_moves, arm.turn(q_mov, joint, step), arm_b.turn(q_mov, joint, step))
+            (ma0, ma1), (mb0, mb1) = arm.segment(q_mov), arm_b.segment(q_mov)
+            (sa0, sa1), (sb0, sb1) = arm.segment(q_still), arm_b.segment(q_still)
+            m0, m1 = np.where(w[:, 0], ma0, mb0), np.where(w[:, 0], ma1, mb1)
+            s0, s1 = np.where(w[:, 0], sb0, sa0), np.where(w[:, 0], sb1, sa1)
         other = np.where(a_moves, o, 0)
         times = critical_times(centre, angle, shift + m0, shift + m1, other + s0, other + s1)
         k = times.shape[1]
         rows = np.repeat(np.arange(len(qa)), k)
         t = times.ravel()[:, None]
         a0, a1 = arm.segment(qa[rows] + t * da[rows])
-        b0, b1 = arm.segment(qb[rows] + t * db[rows])
+        b0, b1 = arm_b.segment(qb[rows] + t * db[rows])
         return segment_gap(a0, a1, o + b0, o + b1).reshape(len(qa), k).min(axis=1)
 
     def edge(self, side: int, joint: int) -> np.ndarray:
