@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from .kinematics import MAX_POSITIONS, Kinematics
+from .batch import KinematicsArrays, batch_swept
 from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, turn_collides
 from .segments import point_segment_distance, segment_distance
@@ -305,13 +306,36 @@ class CollisionTables:
                 return np.swapaxes(self._swept[mirror], 1, 2)
             table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
                                 distances=self._distances((ox, oy), ua, ub))
-            fa, fb = self._unary(k)
-            if mover == 0:
-                table |= (fa[1][:, :, None] if fa is not None else False) | (fb[0][None, None, :] if fb is not None else False)
-            else:
-                table |= (fb[1][:, None, :] if fb is not None else False) | (fa[0][None, :, None] if fa is not None else False)
-            self._swept[key] = table
+            self._swept[key] = self._fold_swept(k, mover, table)
         return self._swept[key]
+
+    def _fold_swept(self, k: int, mover: int, table: np.ndarray) -> np.ndarray:
+        fa, fb = self._unary(k)
+        if mover == 0:
+            table |= (fa[1][:, :, None] if fa is not None else False) | (fb[0][None, None, :] if fb is not None else False)
+        else:
+            table |= (fb[1][:, None, :] if fb is not None else False) | (fa[0][None, :, None] if fa is not None else False)
+        return table
+
+    def prepare(self, ks: Any, chunk: int = 256) -> None:
+        """Compute the swept tables of pairs ``ks`` (both movers) ahead, many pairs per call
+        (:func:`.batch.batch_swept`): what a layout of robots with their own geometry needs,
+        where few pairs share tables.  The tables are the ones :meth:`swept` computes."""
+        todo = [int(k) for k in ks if self._key(int(k)) + (0,) not in self._swept]
+        arrays: dict[int, KinematicsArrays] = {}
+        for lo in range(0, len(todo), chunk):
+            part = todo[lo:lo + chunk]
+            keys = [self._key(k) for k in part]
+            for _, _, ua, ub in keys:
+                for u in (ua, ub):
+                    if u not in arrays:
+                        arrays[u] = KinematicsArrays(self._kin(u))
+            done = batch_swept([arrays[key[2]] for key in keys], [arrays[key[3]] for key in keys],
+                               [key[0] for key in keys], [key[1] for key in keys])
+            for k, key, (dist, w0, w1) in zip(part, keys, done):
+                self._dist.setdefault((key[0], key[2], key[3]), dist)
+                self._swept.setdefault(key + (0,), self._fold_swept(k, 0, w0))
+                self._swept.setdefault(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""

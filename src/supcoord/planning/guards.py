@@ -108,6 +108,8 @@ def conflict_graph(problem: Problem) -> Adjacency:
     something (pairs that can ever collide given the motion ranges); ``side`` is ``p``'s."""
     cache = problem.__dict__.get("_conflict_adj")
     if cache is None:
+        if problem.robot_kinematics is not None or problem.unary():  # few shared tables: many pairs per call
+            problem.tables().prepare(range(len(problem.pairs)))
         blocking = [k for k in range(len(problem.pairs)) if _move_blocked_any(problem, k)]
         cache = problem.__dict__["_conflict_adj"] = _adjacency(problem, blocking)
     return cache
