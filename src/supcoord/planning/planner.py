@@ -32,6 +32,7 @@ References
 
 from __future__ import annotations
 
+import copy
 import time
 from typing import Any, Callable, Sequence
 
@@ -45,6 +46,8 @@ from ..problems.problem import Problem
 from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from ..synthesis.supcon import supcon
+from .descent import descent
+from .guards import conflict_graph
 from .improve import improve_plan
 from .layers import move_layers, witness_moves
 from .model import CoordinationModel
@@ -116,6 +119,29 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
             f"({how}); no plan exists for the whole problem")
 
 
+def _easier_direction(problem: Problem, model: CoordinationModel, stats: dict[str, Any]) -> Problem:
+    """``problem``, or the same problem with start and target exchanged when the greedy
+    descent leaves strictly fewer robots short of their goal that way.
+
+    The single-move configuration graph is undirected (the guards are symmetrised,
+    :mod:`.guards`), so a plan target → start, reversed with every move undone, is a plan
+    start → target, and a certificate that the target cannot be reached from the start
+    is one that the start cannot be reached from the target: the verdict is the same
+    either way.  Only the work differs, as for SDSS-V's robots, which fold into their
+    lattice far more easily than they unfold from it (kaiju plans folds and reverses them).
+    """
+    conflict_graph(problem)  # the tables and guards, shared with the exchanged problem
+    flipped = copy.copy(problem)
+    flipped.start, flipped.target = problem.target.copy(), problem.start.copy()
+    short = []
+    for candidate in (problem, flipped):
+        _, end = descent(candidate, candidate.start, check=model.ctx.check_budget)
+        short.append(int((~candidate.at_target(end)).sum()))
+    stats["descent_short"] = {"forward": short[0], "reverse": short[1]}
+    stats["direction"] = "reverse" if short[1] < short[0] else "forward"
+    return flipped if short[1] < short[0] else problem
+
+
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
           validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
@@ -149,7 +175,12 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     order = order or ("rcm" if route == "local" else "hex")
     model = CoordinationModel(problem, order=order, backend=backend, budget=budget, progress=progress)
     stats: dict[str, Any] = {"route": route, "order": order, "positioners": problem.n}
+    work = problem  # the problem the windows solve: problem itself, or target and start exchanged
     try:
+        if route == "local" and greedy and problem.n > 1:
+            work = _easier_direction(problem, model, stats)
+            if work is not problem:
+                model = CoordinationModel(work, order=order, backend=backend, budget=budget, progress=progress)
         if route == "monolithic":
             everyone = list(range(problem.n))
             res = solve_window(model, everyone, None, problem.start, supervisor=supervisor is None or supervisor)
@@ -158,8 +189,10 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
                 stats["supervisor_states"] = res.stats["supervisor_states"]
             moves, certificate = (res.moves, None) if res.feasible else (None, (everyone, "exhaustive search"))
         else:
-            moves, certificate = solve_local(problem, model, stats, greedy=greedy,
+            moves, certificate = solve_local(work, model, stats, greedy=greedy,
                                              **({} if levels is None else {"levels": levels}))
+            if moves is not None and work is not problem:  # back the other way: reversed, each move undone
+                moves = [(p, j, -d) for p, j, d in reversed(moves)]
     except BudgetExceeded as exc:
         exc.stats.update({k: v for k, v in stats.items() if k not in exc.stats})
         exc.stats.update(seconds=time.perf_counter() - t0,
