@@ -85,6 +85,7 @@ class AlphaBeta(Kinematics):
         self.segment = None if segment is None else _points(segment, "segment", 2)
         self.fibre_point = None if fibre_point is None else _points([fibre_point], "fibre_point", 1)[0]
         self.offsets = None if offsets is None else tuple(float(v) for v in _points([offsets], "offsets", 1)[0])
+        self._key: tuple | None = None
 
     def __repr__(self) -> str:
         extra = "".join(f", {k}={v!r}" for k, v in self._options().items())
@@ -100,9 +101,12 @@ class AlphaBeta(Kinematics):
         return out
 
     def key(self) -> tuple:
-        """Every number the geometry depends on (equal keys: identical robots)."""
-        return (self.alpha, self.beta, self.alpha_steps, self.beta_steps, self.beta_range,
-                tuple((k, _freeze(v)) for k, v in self._options().items()))
+        """Every number the geometry depends on (equal keys: identical robots); computed once
+        (an AlphaBeta does not change after it is made)."""
+        if self._key is None:
+            self._key = (self.alpha, self.beta, self.alpha_steps, self.beta_steps, self.beta_range,
+                         tuple((k, _freeze(v)) for k, v in self._options().items()))
+        return self._key
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, AlphaBeta) and self.key() == other.key()

@@ -30,6 +30,9 @@ def intern_kinematics(kins: list[Kinematics] | None, n: int) -> tuple[list[Kinem
     :meth:`Kinematics.key`), so identical robots share tables; ``(None, zeros)`` without ``kins``."""
     if kins is None:
         return None, np.zeros(n, dtype=np.int64)
+    for held, result in _INTERNED:  # a problem's list is interned once, not at every motion check
+        if held is kins and len(result[1]) == n:
+            return result[0], result[1].copy()
     seen: dict[tuple, int] = {}
     distinct: list[Kinematics] = []
     ids = np.empty(n, dtype=np.int64)
@@ -39,7 +42,13 @@ def intern_kinematics(kins: list[Kinematics] | None, n: int) -> tuple[list[Kinem
             seen[key] = len(distinct)
             distinct.append(k)
         ids[p] = seen[key]
+    _INTERNED.insert(0, (kins, (distinct, ids.copy())))
+    del _INTERNED[4:]
     return distinct, ids
+
+
+#: the last few lists interned (held, so that an identity match is the same list)
+_INTERNED: list[tuple[list, tuple[list, np.ndarray]]] = []
 
 
 def robot_segments(kin: Kinematics | list[Kinematics], bases: Any, positions: Any) -> np.ndarray:

@@ -53,6 +53,8 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
     kin = problem.kinematics
     n, nj = problem.n, kin.n_joints
     nbrs = [[q for _, q, _ in row] for row in pair_graph(problem)]
+    pair_of = {(p, q): (k, side) for p, row in enumerate(pair_graph(problem)) for k, q, side in row}
+    move_index = {mv: m for m, mv in enumerate(kin.moves())}
     last_joint = np.full((n, nj), -1, dtype=np.int64)  # step of the last move of (p, j)
     last_any = np.full(n, -1, dtype=np.int64)
     cur = problem.start.astype(np.int64).copy()  # position after all moves placed so far
@@ -73,13 +75,27 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
             if p in at and problem.own_motion_blocked(p, start_p, dp, tol)[0]:
                 s = s_min + 1  # several joints at once past a fixed obstacle
             elif qs:
-                qa = np.array(qs)
-                dq = np.array([at.get(q, np.zeros(nj, dtype=np.int64)) for q in qs])
-                start_q = np.array([cur[q] - at[q] if q in at else cur[q] for q in qs])
-                hit = robots_motion_collides(problem.kins, p, problem.bases[p], start_p, dp, qa, problem.bases[qa],
-                                             start_q, dq, bsum[p] + bsum[qa], tol)
-                if hit.any():
-                    s = s_min + 1
+                single = np.count_nonzero(dp) == 1
+                if single:  # against a standing neighbour one joint's turn is the exact swept table's entry
+                    m = move_index[(int(np.nonzero(dp)[0][0]), int(dp[np.nonzero(dp)[0][0]]))]
+                    i = kin.flat_position(start_p)
+                    for q in qs:
+                        if q not in at:
+                            k_pair, side = pair_of[(p, q)]
+                            j = kin.flat_position(cur[q])
+                            w = problem.tables().swept(k_pair, side)
+                            if w[m, i, j] if side == 0 else w[m, j, i]:
+                                s = s_min + 1
+                                break
+                moving = [q for q in qs if q in at or not single]
+                if s == s_min and moving:
+                    qa = np.array(moving)
+                    dq = np.array([at.get(q, np.zeros(nj, dtype=np.int64)) for q in moving])
+                    start_q = np.array([cur[q] - at[q] if q in at else cur[q] for q in moving])
+                    hit = robots_motion_collides(problem.kins, p, problem.bases[p], start_p, dp, qa, problem.bases[qa],
+                                                 start_q, dq, bsum[p] + bsum[qa], tol)
+                    if hit.any():
+                        s = s_min + 1
             else:
                 s = s_min if p not in at or at[p][joint] == 0 else s_min + 1
         step_map = deltas.setdefault(s, {})
