@@ -116,7 +116,8 @@ def solve_window(model: CoordinationModel, members: Sequence[int], frozen: np.nd
 def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
     ids = ", ".join(str(p) for p in sorted(members))
     return (f"positioners {ids} cannot all reach their targets even with every other positioner removed "
-            f"({how}); no plan exists for the whole problem")
+            f"({how}); no plan exists for the whole problem in which one joint moves at a time (the single-move "
+            f"model; moves of several joints at once are not searched)")
 
 
 def _easier_direction(problem: Problem, model: CoordinationModel, stats: dict[str, Any]) -> Problem:
