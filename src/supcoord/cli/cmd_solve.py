@@ -56,6 +56,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "motion_time_s (each step lasts what its slowest joint needs)")
     p.add_argument("--trajectories-csv", metavar="FILE.csv",
                    help="write the trajectories as robot,joint,t_s,deg rows (needs --speed)")
+    p.add_argument("--improve", type=int, metavar="N",
+                   help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
+                        "at least 200); work, not seconds, so the same input gives the same plan anywhere")
 
 
 def figure_suffix(path: str | None, inputs: Sequence[str] = ()) -> str | None:
@@ -91,6 +94,10 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
     budget = budget_from_args(args)
     speed = check_speed(getattr(args, "speed", None), "--speed")
+    improve = getattr(args, "improve", None)
+    if improve is not None and not 0 <= improve <= 10**7:
+        raise InputError(f"must be a number of re-plannings in [0, 10000000], got {improve}", value=improve,
+                         where="--improve")
     csv = getattr(args, "trajectories_csv", None)
     figure_suffix(args.figure, [args.problem])
     writable(args.out, "--out", [args.problem])
@@ -110,7 +117,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     for warning in problem.warnings:
         console.warn(warning)
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
-                 progress=console.progress, speed=speed)
+                 progress=console.progress, speed=speed, improve=improve)
     if args.out:
         plan.dump(args.out, problem)
     if csv is not None and plan.trajectories is not None:
