@@ -86,6 +86,7 @@ class AlphaBeta(Kinematics):
         self.fibre_point = None if fibre_point is None else _points([fibre_point], "fibre_point", 1)[0]
         self.offsets = None if offsets is None else tuple(float(v) for v in _points([offsets], "offsets", 1)[0])
         self._key: tuple | None = None
+        self._cache: dict = {}  # reach and the largest steps (an AlphaBeta does not change once made)
 
     def __repr__(self) -> str:
         extra = "".join(f", {k}={v!r}" for k, v in self._options().items())
@@ -164,7 +165,12 @@ class AlphaBeta(Kinematics):
         return a, b
 
     def _max_step_rad(self, joint: int) -> float:
-        """The largest turn of one move of ``joint`` (radians)."""
+        """The largest turn of one move of ``joint`` (radians; computed once per joint)."""
+        if joint not in self._cache:
+            self._cache[joint] = self._largest_step(joint)
+        return self._cache[joint]
+
+    def _largest_step(self, joint: int) -> float:
         table = self.alpha_deg if joint == 0 else self.beta_deg
         if table is None:
             if joint == 0 and self.alpha_range is None:
@@ -194,7 +200,12 @@ class AlphaBeta(Kinematics):
         """The farthest point of the colliding segment from the base, over every ``β`` in the
         beta range: the distance from the base is convex along the segment, so it is at an
         end point ``p`` (beta-arm frame), at ``√(a² + |p|² + 2a|p|·cos(β + φ_p))``, largest
-        where ``cos(β + φ_p)`` is over ``[lo, hi]`` (``φ_p`` the polar angle of ``p``)."""
+        where ``cos(β + φ_p)`` is over ``[lo, hi]`` (``φ_p`` the polar angle of ``p``); computed once."""
+        if "reach" not in self._cache:
+            self._cache["reach"] = self._farthest()
+        return self._cache["reach"]
+
+    def _farthest(self) -> float:
         ends = [(0.0, 0.0), (self.beta, 0.0)] if self.segment is None else [tuple(p) for p in self.segment]
         out = 0.0
         for px, py in ends:
