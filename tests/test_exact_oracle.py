@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 from supcoord import solve
-from supcoord.planning import windows
+from supcoord.planning import planner, windows
 from supcoord.problems.plan import parse_event
 from supcoord.problems.problem import parse_problem
 from supcoord.testing.oracle import (
@@ -97,6 +97,7 @@ class Recorder:
         monkeypatch.setattr(windows._Windows, "grow", rec_grow)
         monkeypatch.setattr(windows._Windows, "whole", rec_whole)
         monkeypatch.setattr(windows, "descent", rec_descent)
+        monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
 
     def solve(self, monkeypatch, p, setting: str, improve: int | None):
         self.run = set()

@@ -30,7 +30,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from strategies import tight_problems, tight_route
 
-from supcoord.planning import solve, windows
+from supcoord.planning import planner, solve, windows
 from supcoord.problems import parse_problem, validate_plan
 from supcoord.testing.oracle import oracle_bounds, oracle_solve
 from supcoord.testing.oracle.cases import tight_problem
@@ -84,6 +84,7 @@ class Recorder:
         monkeypatch.setattr(windows._Windows, "grow", rec_grow)
         monkeypatch.setattr(windows._Windows, "whole", rec_whole)
         monkeypatch.setattr(windows, "descent", rec_descent)
+        monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
 
     def solve(self, monkeypatch, p, setting: str):
         self.run = set()

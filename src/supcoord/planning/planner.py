@@ -120,7 +120,8 @@ def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
             f"model; moves of several joints at once are not searched)")
 
 
-def _easier_direction(problem: Problem, model: CoordinationModel, stats: dict[str, Any]) -> Problem:
+def _easier_direction(problem: Problem, model: CoordinationModel,
+                      stats: dict[str, Any]) -> tuple[Problem, tuple[list, np.ndarray]]:
     """``problem``, or the same problem with start and target exchanged when the greedy
     descent leaves strictly fewer robots short of their goal that way.
 
@@ -130,17 +131,19 @@ def _easier_direction(problem: Problem, model: CoordinationModel, stats: dict[st
     is one that the start cannot be reached from the target: the verdict is the same
     either way.  Only the work differs, as for SDSS-V's robots, which fold into their
     lattice far more easily than they unfold from it (kaiju plans folds and reverses them).
+    Returns the problem to solve and its descent (``(steps, end)``), which the windows reuse.
     """
     conflict_graph(problem)  # the tables and guards, shared with the exchanged problem
     flipped = copy.copy(problem)
     flipped.start, flipped.target = problem.target.copy(), problem.start.copy()
-    short = []
+    short, runs = [], []
     for candidate in (problem, flipped):
-        _, end = descent(candidate, candidate.start, check=model.ctx.check_budget)
+        steps, end = descent(candidate, candidate.start, check=model.ctx.check_budget)
         short.append(int((~candidate.at_target(end)).sum()))
+        runs.append((steps, end))
     stats["descent_short"] = {"forward": short[0], "reverse": short[1]}
     stats["direction"] = "reverse" if short[1] < short[0] else "forward"
-    return flipped if short[1] < short[0] else problem
+    return (flipped, runs[1]) if short[1] < short[0] else (problem, runs[0])
 
 
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
@@ -176,10 +179,10 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     order = order or ("rcm" if route == "local" else "hex")
     model = CoordinationModel(problem, order=order, backend=backend, budget=budget, progress=progress)
     stats: dict[str, Any] = {"route": route, "order": order, "positioners": problem.n}
-    work = problem  # the problem the windows solve: problem itself, or target and start exchanged
+    work, descended = problem, None  # what the windows solve: problem itself, or target and start exchanged
     try:
         if route == "local" and greedy and problem.n > 1:
-            work = _easier_direction(problem, model, stats)
+            work, descended = _easier_direction(problem, model, stats)
             if work is not problem:
                 model = CoordinationModel(work, order=order, backend=backend, budget=budget, progress=progress)
         if route == "monolithic":
@@ -190,7 +193,7 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
                 stats["supervisor_states"] = res.stats["supervisor_states"]
             moves, certificate = (res.moves, None) if res.feasible else (None, (everyone, "exhaustive search"))
         else:
-            moves, certificate = solve_local(work, model, stats, greedy=greedy,
+            moves, certificate = solve_local(work, model, stats, greedy=greedy, descended=descended,
                                              **({} if levels is None else {"levels": levels}))
             if moves is not None and work is not problem:  # back the other way: reversed, each move undone
                 moves = [(p, j, -d) for p, j, d in reversed(moves)]

@@ -217,12 +217,14 @@ class _Windows:
 
 
 def solve_local(problem: Problem, model: CoordinationModel, stats: dict[str, Any], *, greedy: bool = True,
-                levels: tuple[int | None, ...] = LEVELS) -> tuple[list[Move] | None, Any]:
+                levels: tuple[int | None, ...] = LEVELS,
+                descended: tuple[list, np.ndarray] | None = None) -> tuple[list[Move] | None, Any]:
     """``(moves, None)`` with a move sequence start → target, or ``(None, (S, how))``.
 
     ``greedy=False`` skips the descent (windows only); ``levels`` are the window node
-    caps (the last must be None).  Windows never compute ``supcon``: every event is
-    controllable and the specification trivial."""
+    caps (the last must be None); ``descended``: the descent from the start, already
+    computed (:func:`.descent.descent`'s ``(steps, end)``).  Windows never compute
+    ``supcon``: every event is controllable and the specification trivial."""
     if not levels or levels[-1] is not None:
         raise ModelError("the last window level must be uncapped (None)", value=levels)
     c = problem.start.copy()
@@ -244,7 +246,11 @@ def solve_local(problem: Problem, model: CoordinationModel, stats: dict[str, Any
     memo: dict[int, tuple[int, list[int], np.ndarray]] = {}  # p -> (level, region, c[region]) of a give-up
     while True:
         if greedy:
-            steps, c = descent(problem, c, check=model.ctx.check_budget)
+            if descended is not None and np.array_equal(c, problem.start):
+                steps, c = descended[0], descended[1].copy()
+            else:
+                steps, c = descent(problem, c, check=model.ctx.check_budget)
+            descended = None
             stats["descent_steps"] += len(steps)
             for step in steps:
                 moves.extend(step)
