@@ -12,8 +12,8 @@ supcoord's geometry alone.
 
 Needs kaiju (not a supcoord dependency); run it with a Python that has it::
 
-    python3 -m venv /tmp/kaijuenv && /work/shared/tools/install-kaiju.sh /tmp/kaijuenv/bin/python
-    /tmp/kaijuenv/bin/python benchmarks/kaiju_geometry_check.py [--states 20] [--seed 1] [--ang-step 0.1]
+    python3 -m venv kaiju-venv && ../shared/tools/install-kaiju.sh kaiju-venv/bin/python
+    kaiju-venv/bin/python benchmarks/kaiju_geometry_check.py [--states 20] [--seed 1] [--ang-step 0.1]
 
 supcoord itself is imported from this checkout's ``src`` (it needs only numpy here).
 Exit status 1 if any difference exceeds ``--tol`` mm (1e-9) or any verdict differs.

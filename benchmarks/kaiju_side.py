@@ -6,7 +6,7 @@ for its alpha-beta fibre robots.  This script drives kaiju exactly as kaiju and 
 robot-control software jaeger (``src/jaeger/kaiju.py``, ``etc/jaeger_APO.yml``) drive it,
 and writes plain JSON that supcoord (or anything else) can read without kaiju::
 
-    PY=/work/kaiju-venv/bin/python
+    PY=$KAIJU_PYTHON   # a venv with kaiju: ../shared/tools/install-kaiju.sh PYTHON
     $PY benchmarks/kaiju_side.py instances --out DIR --seeds 10 --grids hex61,hex127,hex547,apo
     $PY benchmarks/kaiju_side.py plan --instance DIR/hex61_s0.json --planner greedy \
         --direction fold --out PATH.json
@@ -26,7 +26,7 @@ What kaiju does (file:line in sdss/kaiju 1.4.1, the installed version)
   and dxTip = sqrt(buffer^2 + 0.3^2) - 0.55 (robotGrid.py:410-426), i.e. 14.7276 mm.
   ``apo``: ``RobotGridAPO`` (robotGrid.py:1241) = ``_load_from_tables`` (robotGrid.py:1090)
   on the APO tables of ``sdss/fps_calibrations`` (``apo/wok_calibs/sloanFlatCMM``; a copy
-  in ``/work/shared/instruments/sdss-v``): 500 robots with their measured alpha arm,
+  in ``../shared/instruments/sdss-v`` beside the checkout): 500 robots with their measured alpha arm,
   fibre positions, alpha/beta offsets and dx/dy, buffer 2 (robotGrid.py:1112), 60
   fiducials with buffer 3 (robotGrid.py:1115-1120), 6 GFA segments hard-coded in kaiju with
   buffer 3 (robotGrid.py:1124-1152) and ``fiducialWatch`` robots (robotGrid.py:1154-1180).
@@ -71,6 +71,7 @@ import sys
 import tempfile
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -87,7 +88,7 @@ PHOBIA = 0.6
 MDP2_TRIES = 5
 PITCH = 22.4
 HEX_DIA = {"hex61": 9, "hex127": 13, "hex547": 27}
-SHARED_CALIB = "/work/shared/instruments/sdss-v"
+SHARED_CALIB = str(Path(__file__).resolve().parents[2] / "shared" / "instruments" / "sdss-v")
 FWC0, FWC1 = 41.2853, -1.3085  # robotGrid.cpp:22-23
 
 def _fail(msg: str):
@@ -715,7 +716,7 @@ def cmd_replay(args) -> None:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--wokcalib", help="directory with the APO positionerTable/wokCoords/fiducialCoords "
-                    "CSVs (default: links to /work/shared/instruments/sdss-v)")
+                    "CSVs (default: links to ../shared/instruments/sdss-v beside the checkout)")
     sub = ap.add_subparsers(dest="cmd", required=True)
     p = sub.add_parser("instances", help="kaiju grids with kaiju's random decollided targets")
     p.add_argument("--out", required=True)

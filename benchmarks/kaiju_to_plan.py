@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Convert a kaiju path (``kaiju_side.py plan`` output) into a supcoord PLAN.json.
 
-Runs with plain Python + numpy (e.g. ``/work/main/.venv/bin/python``); kaiju is not needed::
+Runs with plain Python + numpy (e.g. the project's ``.venv/bin/python``); kaiju is not needed::
 
     python benchmarks/kaiju_to_plan.py PATH.json --out PLAN.json [--path raw|smoothed]
     supcoord check PROBLEM.json PLAN.json        # PROBLEM.json built from the same instance

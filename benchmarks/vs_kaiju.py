@@ -3,14 +3,14 @@
 
 ::
 
-    source /work/main/.venv/bin/activate
-    PY=/work/kaiju-venv/bin/python
+    source .venv/bin/activate
+    PY=$KAIJU_PYTHON   # a venv with kaiju: ../shared/tools/install-kaiju.sh PYTHON
     $PY benchmarks/kaiju_side.py instances --out /tmp/kaiju_instances --seeds 10 --grids hex61,hex127,apo
     nice python benchmarks/vs_kaiju.py --grids hex61 --seeds 0-2 --timeout 300 \
         --reuse /tmp/kaiju_meas --out benchmarks/results/vs_kaiju [--append] [--steps 37x19]
 
 kaiju runs only through ``subprocess`` with kaiju's venv (``--kaiju-python``, default
-``/work/kaiju-venv/bin/python``) and ``benchmarks/kaiju_side.py``. For every instance
+``$KAIJU_PYTHON``) and ``benchmarks/kaiju_side.py``. For every instance
 ``{grid}_s{seed}.json`` of ``--instances`` and every direction (``fold``: kaiju's random
 targets -> folded lattice (10, 170) deg; ``unfold``: lattice -> targets):
 
@@ -382,7 +382,8 @@ def main(argv=None) -> None:
     ap.add_argument("--max-memory", default="8G")
     ap.add_argument("--steps", default=None, help="alpha_steps x beta_steps, e.g. 13x7 (default 37x19)")
     ap.add_argument("--reuse", default=None, help="directory of kaiju_side.py plan results to reuse")
-    ap.add_argument("--kaiju-python", default="/work/kaiju-venv/bin/python")
+    ap.add_argument("--kaiju-python", default=os.environ.get("KAIJU_PYTHON", "kaiju-venv/bin/python"),
+                    help="the Python of a venv with kaiju (default: $KAIJU_PYTHON)")
     ap.add_argument("--supcoord", default=os.path.join(os.path.dirname(sys.executable), "supcoord"))
     ap.add_argument("--work", default="/tmp/vs_kaiju_work")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "vs_kaiju"), help="writes OUT.json, OUT.md")
@@ -402,7 +403,7 @@ def main(argv=None) -> None:
         write_md(args.out + ".md", data)
         return
     if not os.path.exists(args.kaiju_python):
-        _fail(f"kaiju's python {args.kaiju_python} not found (install kaiju: /work/shared/tools/install-kaiju.sh, "
+        _fail(f"kaiju's python {args.kaiju_python} not found (install kaiju: ../shared/tools/install-kaiju.sh, "
               "or pass --kaiju-python)")
     if not os.path.exists(args.supcoord):
         _fail(f"supcoord CLI {args.supcoord} not found (pass --supcoord)")
