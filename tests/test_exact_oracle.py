@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 from supcoord import solve
-from supcoord.planning import planner, windows
+from routes import FORCED, Recorder
 from supcoord.problems.plan import parse_event
 from supcoord.problems.problem import parse_problem
 from supcoord.testing.oracle import (
@@ -47,72 +47,11 @@ from supcoord.testing.oracle.model import OracleProblem
 
 #: configurations of a drawn problem (at most 4 robots of 12 positions)
 MAX_PRODUCT = 60_000
-#: the window route forced: (levels, greedy), as in test_planner_oracle.py
-FORCED = {
-    "windows A": ((18, 60, 200, None), True),
-    "windows B": ((12, 40, 135, None), False),
-    "windows C": ((30, 300, None), True),
-    "windows D": ((30, 300, None), False),
-}
 SETTINGS = ["default", *FORCED]
 #: what the comparison must reach
 KINDS = ("feasible", "infeasible", "alpha wraps", "alpha hard stops", "margin", "indices side", "xy side",
          "whole component solved", "grown window solved", "descent moved", "descent then windows",
          "certificate: conflict component", "certificate: relaxed subproblem", "certificate: no blocker")
-CERTIFICATES = {"their conflict component": "conflict component", "this relaxed subproblem": "relaxed subproblem",
-                "no other positioner restricts them": "no blocker"}
-
-
-class Recorder:
-    """Counts what one ``solve`` does in the window route (wrapped, not changed)."""
-
-    def __init__(self, monkeypatch):
-        self.kinds: Counter = Counter()
-        self.run: set[str] = set()
-        grow, whole, descent = windows._Windows.grow, windows._Windows.whole, windows.descent
-
-        def rec_grow(win, p, c, done, comp, cap):
-            out = grow(win, p, c, done, comp, cap)
-            self.run.add("window")
-            if out.kind == "solved" and len(out.members) > 1:
-                self.run.add("grown window solved")
-            if out.kind == "gave_up":
-                self.run.add("window cap hit")
-            if "descent moved" in self.run:
-                self.run.add("descent then windows")
-            return out
-
-        def rec_whole(win, comp, c):
-            out = whole(win, comp, c)
-            if out.kind == "solved":
-                self.run.add("whole component solved")
-            return out
-
-        def rec_descent(problem, c, check=None):
-            steps, end = descent(problem, c, check=check)
-            if steps:
-                self.run.add("descent moved")
-            return steps, end
-
-        monkeypatch.setattr(windows._Windows, "grow", rec_grow)
-        monkeypatch.setattr(windows._Windows, "whole", rec_whole)
-        monkeypatch.setattr(windows, "descent", rec_descent)
-        monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
-
-    def solve(self, monkeypatch, p, setting: str, improve: int | None):
-        self.run = set()
-        if setting == "default":
-            plan = solve(p, improve=improve)
-        else:
-            levels, greedy = FORCED[setting]
-            with monkeypatch.context() as m:
-                m.setattr(windows, "SMALL_COMPONENT", 0)
-                plan = solve(p, levels=levels, greedy=greedy, improve=improve)
-        for how, kind in CERTIFICATES.items():
-            if plan.status == "infeasible" and how in plan.reason:
-                self.run.add(f"certificate: {kind}")
-        self.kinds.update(self.run)
-        return plan
 
 
 def _describe(data: dict) -> set[str]:
@@ -183,7 +122,7 @@ def test_planner_agrees_with_the_oracle_on_exact_angles_and_reaches_every_route(
     for seed, setting, improve in CASES:
         data = tight_angle_problem(seed, max_product=MAX_PRODUCT)
         p = parse_problem(data)
-        plan = rec.solve(monkeypatch, p, setting, improve)
+        plan = rec.solve(monkeypatch, p, setting, improve=improve)
         distance = check_against_oracle(data, plan, p)
         rec.kinds["feasible" if distance is not None else "infeasible"] += 1
         rec.kinds.update(_describe(data))

@@ -22,84 +22,22 @@ test, so that the comparison cannot quietly stop exercising the window machinery
 
 from __future__ import annotations
 
-from collections import Counter
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from routes import FORCED, Recorder
 from strategies import tight_problems, tight_route
 
-from supcoord.planning import planner, solve, windows
+from supcoord.planning import solve
 from supcoord.problems import parse_problem, validate_plan
 from supcoord.testing.oracle import oracle_bounds, oracle_solve
 from supcoord.testing.oracle.cases import tight_problem
 
-#: the window route forced: (levels, greedy)
-FORCED = {
-    "windows A": ((18, 60, 200, None), True),
-    "windows B": ((12, 40, 135, None), False),
-    "windows C": ((30, 300, None), True),
-    "windows D": ((30, 300, None), False),
-}
 #: what the comparison must reach
 KINDS = ("feasible", "infeasible", "whole component solved", "grown window solved", "descent moved",
          "descent then windows", "window cap hit", "certificate: conflict component",
          "certificate: relaxed subproblem", "certificate: no blocker")
-CERTIFICATES = {"their conflict component": "conflict component", "this relaxed subproblem": "relaxed subproblem",
-                "no other positioner restricts them": "no blocker"}
-
-
-class Recorder:
-    """Counts what one ``solve`` does in the window route (wrapped, not changed)."""
-
-    def __init__(self, monkeypatch):
-        self.kinds: Counter = Counter()
-        self.run: set[str] = set()
-        grow, whole, descent = windows._Windows.grow, windows._Windows.whole, windows.descent
-
-        def rec_grow(win, p, c, done, comp, cap):
-            out = grow(win, p, c, done, comp, cap)
-            self.run.add("window")
-            if out.kind == "solved" and len(out.members) > 1:
-                self.run.add("grown window solved")
-            if out.kind == "gave_up":
-                self.run.add("window cap hit")
-            if "descent moved" in self.run:
-                self.run.add("descent then windows")
-            return out
-
-        def rec_whole(win, comp, c):
-            out = whole(win, comp, c)
-            if out.kind == "solved":
-                self.run.add("whole component solved")
-            return out
-
-        def rec_descent(problem, c, check=None):
-            steps, end = descent(problem, c, check=check)
-            if steps:
-                self.run.add("descent moved")
-            return steps, end
-
-        monkeypatch.setattr(windows._Windows, "grow", rec_grow)
-        monkeypatch.setattr(windows._Windows, "whole", rec_whole)
-        monkeypatch.setattr(windows, "descent", rec_descent)
-        monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
-
-    def solve(self, monkeypatch, p, setting: str):
-        self.run = set()
-        if setting == "default":
-            plan = solve(p)
-        else:
-            levels, greedy = FORCED[setting]
-            with monkeypatch.context() as m:
-                m.setattr(windows, "SMALL_COMPONENT", 0)
-                plan = solve(p, levels=levels, greedy=greedy)
-        for how, kind in CERTIFICATES.items():
-            if plan.status == "infeasible" and how in plan.reason:
-                self.run.add(f"certificate: {kind}")
-        self.kinds.update(self.run)
-        return plan
 
 
 def check_against_oracle(data: dict, plan, p) -> int | None:
