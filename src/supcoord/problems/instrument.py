@@ -27,10 +27,10 @@ from ..instruments import INSTRUMENTS, load_instrument
 __all__ = ["DEFAULT_STEPS", "InstrumentSetup", "instrument_setup", "LAYOUT_FIELDS"]
 
 #: default discretisation of an instrument's joints (alpha, beta): 30° steps, chosen by
-#: measurement on the APO wok unfolding to kaiju's random targets (seed 0): 13 × 7 planned it
-#: in 102 s and 1.1 GB, 19 × 10 in 172 s and 3.6 GB with the same motion time (73 s vs 71 s
-#: at 12°/s); 37 × 19 needs more memory than a 24 GiB machine has (every robot's own lattice
-#: makes every pair's tables its own)
+#: measurement on the APO wok unfolding to kaiju's random targets (seed 0;
+#: ``benchmarks/bench_instrument.py``): 13 × 7 planned it in 82 s and 1.1 GB, 19 × 10 in 150 s
+#: and 3.7 GB with the same motion time (73 s vs 71 s at 12°/s); 37 × 19 needs more memory than
+#: a 24 GiB machine has (every robot's own lattice makes every pair's tables its own)
 DEFAULT_STEPS = (13, 7)
 LAYOUT_FIELDS = ("kind", "name", "fibre")
 _KIN_FIELDS = ("kind", "alpha_steps", "beta_steps", "alpha_range", "beta_range")
