@@ -221,6 +221,14 @@ class AlphaBeta(Kinematics):
         a, b = self.angles(q)
         return self._segments_at(a, b)
 
+    def chain(self) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
+        """The alpha arm, then the colliding segment in the beta arm's frame."""
+        (x0, y0), (x1, y1) = ((0.0, 0.0), (self.beta, 0.0)) if self.segment is None else self.segment
+        return self.alpha, ((float(x0), float(y0)), (float(x1), float(y1)))
+
+    def chain_angles(self, q: Any) -> tuple[np.ndarray, np.ndarray]:
+        return self.angles(q)
+
     def segments_at_deg(self, angles_deg: Any) -> np.ndarray:
         """The colliding segment (relative to the base) at joint angles ``(α, β)`` in degrees
         ``(..., 2)``, any angles (not only the positions')."""

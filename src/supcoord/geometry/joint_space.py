@@ -188,6 +188,17 @@ class Kinematics:
         """
         raise NotImplementedError
 
+    def chain(self) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
+        """The colliding segment as a planar two-link chain: ``(l1, ((x0, y0), (x1, y1)))``, the
+        elbow at ``l1·(cos a, sin a)`` from the base and the segment's end points given in the
+        second link's frame (origin at the elbow, +x at ``a + b``); the angles ``(a, b)`` of a
+        position are :meth:`chain_angles`.  :meth:`segments` is this chain at those angles."""
+        raise NotImplementedError
+
+    def chain_angles(self, q: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The chain's angles ``(a, b)`` (radians) of (fractional) positions ``q`` (:meth:`chain`)."""
+        raise NotImplementedError
+
     def fibre(self, q: Any) -> np.ndarray:
         return self.segments(q)[..., 1, :]
 

@@ -99,6 +99,14 @@ class Rotary(Kinematics):
         end = self.arm * np.stack([np.cos(theta), np.sin(theta)], axis=-1)
         return np.stack([np.zeros_like(end), end], axis=-2)
 
+    def chain(self) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
+        """No first link: the arm is the second link, from the base to ``(arm, 0)`` turned by ``θ``."""
+        return 0.0, ((0.0, 0.0), (self.arm, 0.0))
+
+    def chain_angles(self, q: Any) -> tuple[np.ndarray, np.ndarray]:
+        theta = self.theta(q)
+        return np.zeros_like(theta), theta
+
     def sweep_length(self, delta: Any) -> np.ndarray:
         delta = np.asarray(delta, dtype=float)
         return self.arm * np.abs(delta[..., 0]) * 2 * np.pi / self.steps

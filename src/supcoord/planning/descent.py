@@ -18,7 +18,7 @@ keeps the first that is *compatible* with the choices made so far:
    a valid single-move sequence of the guarded model (:mod:`.model`);
 2. **collision-free when merged** — for every neighbour pair (:attr:`Problem.pairs`)
    in which both move, or one moves two joints, the simultaneous motion
-   ``c + t·Δ`` is free (:func:`supcoord.geometry.collision.motion_collides`, cached: :func:`motion_free`).
+   ``c + t·Δ`` is free (:func:`supcoord.geometry.chain_motion.chain_motion_collides`, cached: :func:`motion_free`).
 
 Steps repeat until every positioner is at target or a step chooses nothing (a stall).
 Each step strictly lowers ``Σ_p Σ_j d_j(c_p, target_p)``, so the descent ends.
@@ -45,7 +45,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..geometry.collision import DEFAULT_TOL, motion_collides, placed_segments, segment_distance
+from ..geometry.chain_motion import chain_geometry, chain_motion_collides
+from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move
 from ..problems.problem import Problem
 from .guards import blocked_table, conflict_graph, pair_graph
@@ -68,31 +69,26 @@ def wanted_moves(problem: Problem, c: np.ndarray, p: int) -> list[list[tuple[int
 def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarray, y: np.ndarray,
                 dq: np.ndarray | None, tol: float = DEFAULT_TOL) -> bool:
     """Is the simultaneous motion of pair ``k`` free: the member ``side`` moving ``x → x + dp``,
-    the other ``y → y + dq`` (None: standing)?  :func:`~supcoord.geometry.collision.motion_collides`, cached
-    per (pair geometry, poses, deltas): a grid has few distinct pair offsets."""
+    the other ``y → y + dq`` (None: standing)?  :func:`~supcoord.geometry.chain_motion.chain_motion_collides`
+    (one motion on floats), cached per (pair geometry, poses, deltas): a grid has few distinct
+    pair offsets."""
     cache = problem.__dict__.setdefault("_motion_cache", {})
     a, b = (int(v) for v in problem.pairs[k])
     nj = problem.kinematics.n_joints
     dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
     xa, da, yb, db = (x, dp, y, dq) if side == 0 else (y, dq, x, dp)
-    bsum = float(problem.buffers[a] + problem.buffers[b])
-    key = problem.geometry_key(a, b) + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
+    keys = problem.__dict__.setdefault("_pair_geometry_keys", {})
+    pair_key = keys.get(k)
+    if pair_key is None:
+        pair_key = keys[k] = problem.geometry_key(a, b)
+    key = pair_key + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
                                         tuple(int(v) for v in yb), tuple(int(v) for v in db))
     hit = cache.get(key)
     if hit is None:
-        ka, kb = problem.kin(a), problem.kin(b)
-        # end-point prefilter (as in collision.swept_table): the distance changes at rate ≤ L
-        sa = placed_segments(ka, problem.bases[[a, a]], np.array([key[5], np.add(key[5], key[6])], float))
-        sb = placed_segments(kb, problem.bases[[b, b]], np.array([key[7], np.add(key[7], key[8])], float))
-        d0, d1 = segment_distance(sa[:, 0], sa[:, 1], sb[:, 0], sb[:, 1]).tolist()  # at the start and at the end
-        length = float(ka.sweep_length(da) + kb.sweep_length(db))
-        if min(d0, d1) < bsum:
-            hit = True
-        elif (d0 + d1 - length) / 2 >= bsum:
-            hit = False
-        else:
-            hit = bool(motion_collides(ka, problem.bases[a], xa, da, kb, problem.bases[b], yb, db, bsum, tol))
-        cache[key] = hit
+        bsum = float(problem.buffers[a] + problem.buffers[b])
+        hit = cache[key] = chain_motion_collides(chain_geometry(problem.kin(a)), problem.bases[a], key[5], key[6],
+                                                 chain_geometry(problem.kin(b)), problem.bases[b], key[7], key[8],
+                                                 bsum, tol)
     return not hit
 
 
@@ -108,11 +104,30 @@ class _Lookups:
         self.adj = conflict_graph(problem)
         self.pair_adj = pair_graph(problem)
 
+        self.steps = [j.steps for j in kin.joints]
+        self.wraps = [j.wraps for j in kin.joints]
+        self.strides = [int(v) for v in kin._strides]
+        self.blocked: dict[tuple[int, int], np.ndarray] = {}
+
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
         out = q.copy()
         for j, d in ms:
             out[j] += d
         return self.kin.wrap(out)
+
+    def flat_after(self, q: Sequence[int], ms: Sequence[tuple[int, int]]) -> int:
+        """:meth:`Kinematics.flat_position` of ``q`` after the moves ``ms`` (Python ints: called
+        for every subset of every candidate of every step)."""
+        v = list(q)
+        for j, d in ms:
+            v[j] += d
+        return sum((x % n if w else x) * st for x, n, w, st in zip(v, self.steps, self.wraps, self.strides))
+
+    def blocked_table(self, k: int, side: int) -> np.ndarray:
+        out = self.blocked.get((k, side))
+        if out is None:
+            out = self.blocked[(k, side)] = blocked_table(self.problem, k, side)
+        return out
 
 
 def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
@@ -121,14 +136,15 @@ def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
 
 def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: np.ndarray, mq: list) -> bool:
     """Condition (1) for the moves ``mp`` of the pair member ``side`` against ``mq``."""
-    blocked = blocked_table(T.problem, k, side)
-    q_poses = [T.kin.flat_position(T.pose(cq, s)) for s in _subsets(mq)]
+    blocked = T.blocked_table(k, side)
+    cp, cq = cp.tolist(), cq.tolist()
+    q_poses = [T.flat_after(cq, s) for s in _subsets(mq)]
     for mv in mp:
-        m = T.move_index[mv]
+        row = blocked[T.move_index[mv]]
         others = [x for x in mp if x != mv]
         for s in _subsets(others):
-            i = T.kin.flat_position(T.pose(cp, s))
-            if any(blocked[m, i, j] for j in q_poses):
+            cells = row[T.flat_after(cp, s)]
+            if any(cells[j] for j in q_poses):
                 return False
     return True
 

@@ -16,7 +16,7 @@ from the configuration the moves before it produce), each move ``m_k`` of positi
   ``q`` of ``p`` (``problem.pairs``: every pair that could collide at all);
 - if some other joint of ``p`` or some neighbour also moves at ``s_k``, the merged motion
   of step ``s_k`` is collision-free for every pair with ``p``
-  (:func:`~supcoord.geometry.collision.motion_collides`, all moving joints together); otherwise
+  (:func:`.descent.motion_free`, all moving joints together); otherwise
   ``s_k = s_min + 1``.
 
 **Why the result is collision-free.**  Per positioner and per neighbour pair the order
@@ -39,7 +39,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
+from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
 from .descent import motion_free
@@ -59,7 +59,6 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
     last_any = np.full(n, -1, dtype=np.int64)
     cur = problem.start.astype(np.int64).copy()  # position after all moves placed so far
     deltas: dict[int, dict[int, np.ndarray]] = {}  # step -> {p: delta}
-    bsum = problem.buffers
     for k, (p, joint, d) in enumerate(moves):
         nxt = checked_step(kin, cur[p], k, (p, joint, d))
         s_min = max(int(last_joint[p, joint]) + 1, int(last_any[p]), max((int(last_any[q]) for q in nbrs[p]), default=-1))
@@ -88,14 +87,13 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
                                 s = s_min + 1
                                 break
                 moving = [q for q in qs if q in at or not single]
-                if s == s_min and moving:
-                    qa = np.array(moving)
-                    dq = np.array([at.get(q, np.zeros(nj, dtype=np.int64)) for q in moving])
-                    start_q = np.array([cur[q] - at[q] if q in at else cur[q] for q in moving])
-                    hit = robots_motion_collides(problem.kins, p, problem.bases[p], start_p, dp, qa, problem.bases[qa],
-                                                 start_q, dq, bsum[p] + bsum[qa], tol)
-                    if hit.any():
-                        s = s_min + 1
+                if s == s_min:
+                    for q in moving:
+                        k_pair, side = pair_of[(p, q)]
+                        start_q = cur[q] - at[q] if q in at else cur[q]
+                        if not motion_free(problem, k_pair, side, start_p, dp, start_q, at.get(q), tol):
+                            s = s_min + 1
+                            break
             else:
                 s = s_min if p not in at or at[p][joint] == 0 else s_min + 1
         step_map = deltas.setdefault(s, {})
@@ -167,7 +165,7 @@ def timeline_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFA
     - for every neighbour ``q`` (:attr:`Problem.pairs`), with ``q``'s placed timeline:
       the motion of ``p`` during ``s`` is free against ``q``'s position or motion during
       ``s`` (symmetrised swept table when one joint moves against a standing ``q``,
-      :func:`~supcoord.geometry.collision.motion_collides` otherwise), and every move of
+      :func:`.descent.motion_free` otherwise), and every move of
       ``q`` placed after ``s`` is free against ``p`` standing at ``x'``.
 
     **Why the result is collision-free.**  Invariant: all placed moves, executed on the

@@ -1,0 +1,177 @@
+"""One simultaneous motion of two robots, checked on Python floats: the planners' single queries.
+
+The greedy descent and the schedules ask, one motion at a time and tens of thousands of
+times on a real focal plane, whether two neighbours moving together (or one robot moving
+two joints at once) stay clear.  :func:`.motion.motion_collides` answers on numpy arrays;
+on a single motion its time goes into numpy's per-call overhead (tens of microseconds for
+each of its dozens of calls), not into arithmetic.  :func:`chain_motion_collides` answers
+the same question with the same certificate on floats, about ten times faster per query
+(``benchmarks/results/instrument.md``); both are kept because the tables need the arrays.
+
+**Poses.**  A robot's colliding segment is a planar two-link chain (:meth:`Kinematics.chain`):
+the elbow ``e = base + l1·(cos a, sin a)`` and the end points ``e + R(a + b)·s_k``.  Between
+two neighbouring positions every joint turns linearly in angle (:meth:`Kinematics.chain_angles`
+interpolates linearly), so in a move of at most one position per joint the pose at time
+``t ∈ [0, 1]`` is the chain at ``(a0 + t·Δa, b0 + t·Δb)``, ``(a0, b0)`` and ``(a0 + Δa, b0 + Δb)``
+the chain angles of the two positions (a wrapping joint continues one position past its
+ends, as the fractional positions of :meth:`Kinematics.segments` do).
+
+**Certificate** (that of :mod:`.motion`, with the same numbers): every point of both
+segments moves at most ``L = sweep_length(d_a) + sweep_length(d_b)``
+(:meth:`Kinematics.sweep_length`), so the distance ``d(t)`` is ``L``-Lipschitz and over
+``[t0, t1]`` at least ``(d(t0) + d(t1) − L·(t1 − t0))/2``.  Starting from ``coarse``
+equal intervals, an interval whose bound is below ``bsum`` is split at its middle until a
+sample collides (a proven collision), every bound clears ``bsum`` (proven free), or
+``L·(t1 − t0)/2 ≤ tol`` (counted as colliding: conservative by at most ``tol`` mm).  The
+verdict is that of the whole refinement tree, so it does not depend on the order in
+which intervals are split: this depth-first search gives the vectorised breadth-first
+one's verdicts, up to floating-point rounding of the distances (``tests/test_chain_motion.py``).
+
+References
+----------
+- P. Hansen, B. Jaumard, S.-H. Lu, Global optimization of univariate Lipschitz functions,
+  Mathematical Programming 55, 1992 (bounds from Lipschitz constants, interval splitting).
+- C. Ericson, *Real-Time Collision Detection*, Morgan Kaufmann 2005, §5.1.2 and §5.1.9
+  (:func:`.segments.segment_distance`, whose formula :func:`segment_distance_floats` repeats).
+"""
+
+from __future__ import annotations
+
+from math import cos, sin, sqrt
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from .joint_space import Kinematics
+
+__all__ = ["ChainGeometry", "chain_geometry", "chain_motion_collides", "segment_distance_floats"]
+
+#: default tolerance (mm), as :data:`.motion.DEFAULT_TOL`
+DEFAULT_TOL = 1e-6
+
+
+class ChainGeometry:
+    """One kinematics as floats: its chain (:meth:`Kinematics.chain`), the chain angles of the
+    positions asked for (memoised) and the sweep length of each delta (memoised)."""
+
+    __slots__ = ("kin", "l1", "s0x", "s0y", "s1x", "s1y", "_angles", "_lengths")
+
+    def __init__(self, kin: Kinematics):
+        self.kin = kin
+        self.l1, ((self.s0x, self.s0y), (self.s1x, self.s1y)) = kin.chain()
+        self._angles: dict[tuple[int, ...], tuple[float, float]] = {}
+        self._lengths: dict[tuple[int, ...], float] = {}
+
+    def angles(self, q: tuple[int, ...]) -> tuple[float, float]:
+        """Chain angles ``(a, b)`` of the (integer, possibly one past a wrapping end) position ``q``."""
+        out = self._angles.get(q)
+        if out is None:
+            a, b = self.kin.chain_angles(np.asarray(q, dtype=float))
+            out = self._angles[q] = (float(a), float(b))
+        return out
+
+    def length(self, d: tuple[int, ...]) -> float:
+        """:meth:`Kinematics.sweep_length` of the delta ``d``."""
+        out = self._lengths.get(d)
+        if out is None:
+            out = self._lengths[d] = float(self.kin.sweep_length(np.asarray(d, dtype=float)))
+        return out
+
+
+def chain_geometry(kin: Kinematics) -> ChainGeometry:
+    """The :class:`ChainGeometry` of ``kin``, made once per kinematics object."""
+    geo = kin.__dict__.get("_chain_geometry")
+    if geo is None:
+        geo = kin.__dict__["_chain_geometry"] = ChainGeometry(kin)
+    return geo
+
+
+def segment_distance_floats(ax: float, ay: float, bx: float, by: float,
+                            cx: float, cy: float, dx: float, dy: float) -> float:
+    """Distance between segments ``[(ax, ay), (bx, by)]`` and ``[(cx, cy), (dx, dy)]``: the
+    formula of :func:`.segments.segment_distance` (0 if they cross, else the least of the
+    four end-point-to-segment distances) on floats."""
+    ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
+    o1 = ux * (cy - ay) - uy * (cx - ax)
+    o2 = ux * (dy - ay) - uy * (dx - ax)
+    o3 = vx * (ay - cy) - vy * (ax - cx)
+    o4 = vx * (by - cy) - vy * (bx - cx)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return 0.0
+    return min(_psd(ax, ay, cx, cy, vx, vy), _psd(bx, by, cx, cy, vx, vy),
+               _psd(cx, cy, ax, ay, ux, uy), _psd(dx, dy, ax, ay, ux, uy))
+
+
+def _psd(px: float, py: float, ax: float, ay: float, ux: float, uy: float) -> float:
+    """Distance from ``p`` to the segment from ``a`` along ``u`` (``t`` clamped to [0, 1])."""
+    wx, wy = px - ax, py - ay
+    den = ux * ux + uy * uy
+    t = (wx * ux + wy * uy) / den if den > 0 else 0.0
+    t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
+    ex, ey = wx - t * ux, wy - t * uy
+    return sqrt(ex * ex + ey * ey)
+
+
+def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Sequence[int], da: Sequence[int],
+                          geo_b: ChainGeometry, base_b: Sequence[float], qb: Sequence[int], db: Sequence[int],
+                          bsum: float, tol: float = DEFAULT_TOL, coarse: int = 4) -> bool:
+    """Does the simultaneous motion ``q_a → q_a + d_a``, ``q_b → q_b + d_b`` (integer positions,
+    deltas of at most one position per joint, ``t ∈ [0, 1]``) bring the two colliding segments
+    closer than ``bsum``?  The certificate of the module docstring."""
+    if not tol > 0:
+        raise InputError(f"tol must be positive, got {tol!r}", value=tol)
+    qa, da, qb, db = (tuple(int(v) for v in x) for x in (qa, da, qb, db))
+    if any(abs(v) > 1 for v in da + db):
+        raise InputError(f"a single motion turns each joint by at most one position, got {da} and {db}",
+                         value=[da, db])
+    a0, b0 = geo_a.angles(qa)
+    a1, b1 = geo_a.angles(tuple(x + d for x, d in zip(qa, da)))
+    c0, e0 = geo_b.angles(qb)
+    c1, e1 = geo_b.angles(tuple(x + d for x, d in zip(qb, db)))
+    length = geo_a.length(da) + geo_b.length(db)
+    pa = (float(base_a[0]), float(base_a[1]), geo_a.l1, geo_a.s0x, geo_a.s0y, geo_a.s1x, geo_a.s1y,
+          a0, a1 - a0, b0, b1 - b0)
+    pb = (float(base_b[0]), float(base_b[1]), geo_b.l1, geo_b.s0x, geo_b.s0y, geo_b.s1x, geo_b.s1y,
+          c0, c1 - c0, e0, e1 - e0)
+
+    def dist(t: float) -> float:
+        return segment_distance_floats(*_pose(pa, t), *_pose(pb, t))
+
+    # the end points first: they decide most motions (a collision at an end, or the bound of
+    # the whole motion clears: then every interval's does, the distance being L-Lipschitz)
+    d_start, d_end = dist(0.0), dist(1.0)
+    if d_start < bsum or d_end < bsum:
+        return True
+    if (d_start + d_end - length) / 2 >= bsum:
+        return False
+    grid = [k / coarse for k in range(coarse + 1)]
+    ds = [d_start] + [dist(t) for t in grid[1:-1]] + [d_end]
+    if min(ds) < bsum:
+        return True
+    stack = [(grid[k], grid[k + 1], ds[k], ds[k + 1]) for k in range(coarse)]
+    while stack:
+        t0, t1, d0, d1 = stack.pop()
+        span = length * (t1 - t0)
+        if (d0 + d1 - span) / 2 >= bsum:
+            continue  # proven free on [t0, t1]
+        if span / 2 <= tol:
+            return True  # undecided at the tolerance: counted as colliding
+        mid = (t0 + t1) / 2
+        dm = dist(mid)
+        if dm < bsum:
+            return True
+        stack.append((t0, mid, d0, dm))
+        stack.append((mid, t1, dm, d1))
+    return False
+
+
+def _pose(p: tuple, t: float) -> tuple[float, float, float, float]:
+    """The placed segment ``(x0, y0, x1, y1)`` of chain parameters ``p`` at time ``t``."""
+    bx, by, l1, s0x, s0y, s1x, s1y, a0, da, b0, db = p
+    a = a0 + t * da
+    ab = a + b0 + t * db
+    ex, ey = l1 * cos(a), l1 * sin(a)
+    c, s = cos(ab), sin(ab)
+    return (ex + (s0x * c - s0y * s) + bx, ey + (s0x * s + s0y * c) + by,
+            ex + (s1x * c - s1y * s) + bx, ey + (s1x * s + s1y * c) + by)
