@@ -16,6 +16,7 @@ from supcoord.errors import InputError
 from supcoord.geometry import AlphaBeta, Rotary
 from supcoord.geometry.chain_motion import _pose, chain_geometry, chain_motion_collides, segment_distance_floats
 from supcoord.geometry.motion import motion_collides, placed_segments
+from supcoord.geometry.obstacles import obstacle_motion_collides
 from supcoord.geometry.segments import segment_distance
 from supcoord.problems.validate import segment_distance_ericson
 
@@ -152,3 +153,23 @@ def test_grazing_motions_are_decided_at_the_tolerance():
             assert got == want, (ka, qa, da, kb, offset, qb, db, m, bsum)
             assert bool(motion_collides(ka, (0.0, 0.0), qa, da, kb, offset, qb, db, bsum)) == want
         checked += 1
+
+
+@pytest.mark.timeout(60)
+def test_one_obstacle_motion_on_floats_agrees_with_arrays():
+    """:func:`obstacle_motion_collides` checks one motion on floats and several on arrays."""
+    rng = np.random.default_rng(23)
+    verdicts = []
+    for trial in range(400):
+        kin = _kinematics(rng, 1 + trial % 3)
+        q, d = _motion(rng, kin)
+        if np.count_nonzero(d) < 2:
+            continue
+        base = rng.uniform(-5, 5, 2)
+        obstacles = rng.uniform(-25, 25, (3, 2, 2))
+        buffers = rng.uniform(0.5, 3, 3)
+        one = obstacle_motion_collides(kin, base, q, d, 2.0, obstacles, buffers)
+        many = obstacle_motion_collides(kin, base, np.stack([q, q]), np.stack([d, d]), 2.0, obstacles, buffers)
+        assert one.tolist() == many[:1].tolist()
+        verdicts.append(bool(one[0]))
+    assert 0.1 < np.mean(verdicts) < 0.9

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from .chain import chain_angles_deg, chain_segments
 from .joint_space import MAX_LENGTH, MAX_POSITIONS, Joint, Kinematics, _is_int
 from .lattice import angle_table as _angle_table
 from .lattice import interpolate as _interp
@@ -232,22 +233,14 @@ class AlphaBeta(Kinematics):
     def segments_at_deg(self, angles_deg: Any) -> np.ndarray:
         """The colliding segment (relative to the base) at joint angles ``(α, β)`` in degrees
         ``(..., 2)``, any angles (not only the positions')."""
-        angles = np.asarray(angles_deg, dtype=float)
-        if self.offsets is not None:
-            angles = angles + np.asarray(self.offsets)
-        angles = np.radians(angles)
-        return self._segments_at(angles[..., 0], angles[..., 1])
+        return self._segments_at(*chain_angles_deg(angles_deg, self.chain_offsets_deg()))
+
+    def chain_offsets_deg(self) -> tuple[float, ...]:
+        return (0.0, 0.0) if self.offsets is None else self.offsets
 
     def _segments_at(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        elbow = self.alpha * np.stack([np.cos(a), np.sin(a)], axis=-1)
-        if self.segment is None:
-            fibre = elbow + self.beta * np.stack([np.cos(a + b), np.sin(a + b)], axis=-1)
-            return np.stack([elbow, fibre], axis=-2)
-        c, s = np.cos(a + b)[..., None], np.sin(a + b)[..., None]
-        (x0, y0), (x1, y1) = self.segment
-        p0 = elbow + np.concatenate([x0 * c - y0 * s, x0 * s + y0 * c], axis=-1)
-        p1 = elbow + np.concatenate([x1 * c - y1 * s, x1 * s + y1 * c], axis=-1)
-        return np.stack([p0, p1], axis=-2)
+        l1, seg = self.chain()
+        return chain_segments(l1, seg, a, b)
 
     def fibre(self, q: Any) -> np.ndarray:
         if self.fibre_point is None and self.segment is None:

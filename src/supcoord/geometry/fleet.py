@@ -15,7 +15,7 @@ import numpy as np
 from .joint_space import Kinematics
 from .motion import DEFAULT_TOL, motion_collides, placed_segments
 
-__all__ = ["robot_reaches", "intern_kinematics", "robot_segments", "robots_motion_collides"]
+__all__ = ["robot_reaches", "intern_kinematics", "robot_segments", "robots_motion_collides", "chain_arrays"]
 
 
 def robot_reaches(kin: Kinematics | list[Kinematics], n: int) -> np.ndarray:
@@ -86,3 +86,14 @@ def robots_motion_collides(kin: Kinematics | list[Kinematics], a: Any, base_a: A
         ba, pa, ea, bb, pb, eb = (v[sel] for v in arrays)
         out[sel] = motion_collides(distinct[x], ba, pa, ea, distinct[y], bb, pb, eb, bsum[sel], tol)
     return out
+
+
+def chain_arrays(kins: list[Kinematics]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(l1, segment, offsets)``: per robot its chain (:meth:`Kinematics.chain`: ``(N,)``,
+    ``(N, 2, 2)``) and joint offsets (:meth:`Kinematics.chain_offsets_deg`, ``(N, J)``), so
+    that :func:`.chain.chain_segments` evaluates robots that each have their own arms at once."""
+    chains = [k.chain() for k in kins]
+    l1 = np.array([c[0] for c in chains], dtype=float)
+    seg = np.array([c[1] for c in chains], dtype=float).reshape(len(kins), 2, 2)
+    offsets = np.array([k.chain_offsets_deg() for k in kins], dtype=float).reshape(len(kins), -1)
+    return l1, seg, offsets

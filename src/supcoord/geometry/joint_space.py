@@ -199,6 +199,11 @@ class Kinematics:
         """The chain's angles ``(a, b)`` (radians) of (fractional) positions ``q`` (:meth:`chain`)."""
         raise NotImplementedError
 
+    def chain_offsets_deg(self) -> tuple[float, ...]:
+        """Per joint, the calibration offset (degrees) between the commanded angle and the chain's
+        (:func:`.chain.chain_angles_deg`)."""
+        raise NotImplementedError
+
     def fibre(self, q: Any) -> np.ndarray:
         return self.segments(q)[..., 1, :]
 

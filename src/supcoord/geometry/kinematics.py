@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from .alpha_beta import AlphaBeta
+from .chain import chain_angles_deg, chain_segments
 from .joint_space import MAX_LENGTH, MAX_POSITIONS, Joint, Kinematics, _is_int
 from .lattice import exact_lattice
 from .layout import _positive_number, _short
@@ -93,11 +94,14 @@ class Rotary(Kinematics):
 
     def segments_at_deg(self, angles_deg: Any) -> np.ndarray:
         """The arm (relative to the base) at angles ``θ`` in degrees ``(..., 1)``."""
-        return self._segments_at(np.radians(np.asarray(angles_deg, dtype=float)[..., 0]))
+        return self._segments_at(chain_angles_deg(angles_deg, self.chain_offsets_deg())[1])
+
+    def chain_offsets_deg(self) -> tuple[float, ...]:
+        return (0.0,)
 
     def _segments_at(self, theta: np.ndarray) -> np.ndarray:
-        end = self.arm * np.stack([np.cos(theta), np.sin(theta)], axis=-1)
-        return np.stack([np.zeros_like(end), end], axis=-2)
+        l1, seg = self.chain()
+        return chain_segments(l1, seg, 0.0, theta)
 
     def chain(self) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
         """No first link: the arm is the second link, from the base to ``(arm, 0)`` turned by ``θ``."""

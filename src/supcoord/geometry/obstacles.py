@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from .chain_motion import ChainGeometry, chain_geometry, chain_motion_collides
 from .joint_space import Joint, Kinematics
 from .motion import DEFAULT_TOL, motion_collides
 from .segments import segment_distance
@@ -51,6 +52,17 @@ class FixedSegment(Kinematics):
 
     def sweep_length(self, delta: Any) -> np.ndarray:
         return np.zeros(np.asarray(delta).shape[:-1])
+
+    def chain(self) -> tuple[float, tuple[tuple[float, float], tuple[float, float]]]:
+        (x0, y0), (x1, y1) = self.segment.tolist()
+        return 0.0, ((x0, y0), (x1, y1))
+
+    def chain_angles(self, q: Any) -> tuple[np.ndarray, np.ndarray]:
+        zero = np.zeros(np.asarray(q).shape[:-1])
+        return zero, zero
+
+    def chain_offsets_deg(self) -> tuple[float, ...]:
+        return (0.0,)
 
     def key(self) -> tuple:
         return ("fixed", tuple(self.segment.ravel().tolist()))
@@ -113,15 +125,36 @@ def rule_tables(kin: Kinematics, c0: float, c1: float) -> UnaryTables:
     return U, V
 
 
+def _fixed_chain(segment: np.ndarray) -> ChainGeometry:
+    """The :class:`ChainGeometry` of a fixed segment, made once per segment."""
+    key = tuple(np.asarray(segment, float).ravel().tolist())
+    geo = _FIXED_CHAINS.get(key)
+    if geo is None:
+        if len(_FIXED_CHAINS) > 4096:
+            _FIXED_CHAINS.clear()
+        geo = _FIXED_CHAINS[key] = chain_geometry(FixedSegment(segment))
+    return geo
+
+
+_FIXED_CHAINS: dict[tuple, ChainGeometry] = {}
+
+
 def obstacle_motion_collides(kin: Kinematics, base: Any, q0: Any, delta: Any, buffer: float, obstacles: np.ndarray,
                              buffers: np.ndarray, tol: float = DEFAULT_TOL) -> np.ndarray:
     """Does the motion ``q0 + t·delta`` (``(E, J)``, several joints at once) of a robot collide
     with one of ``obstacles``?  Certified as :func:`.motion.motion_collides` (conservative by
-    at most ``tol``)."""
+    at most ``tol``); a single motion by :func:`.chain_motion.chain_motion_collides`, the same
+    certificate on floats."""
     q0 = np.atleast_2d(np.asarray(q0, float))
     delta = np.broadcast_to(np.asarray(delta, float), q0.shape)
     hit = np.zeros(len(q0), dtype=bool)
-    for o in near_obstacles(base, kin.reach, buffer, obstacles, buffers):
+    near = near_obstacles(base, kin.reach, buffer, obstacles, buffers)
+    if len(q0) == 1 and np.all(np.abs(delta) <= 1):  # one motion (the planners' queries): on floats
+        geo, start, d = chain_geometry(kin), q0[0].astype(int), delta[0].astype(int)
+        hit[0] = any(chain_motion_collides(geo, base, start, d, _fixed_chain(obstacles[o]), (0.0, 0.0),
+                                           (0,), (0,), float(buffer + buffers[o]), tol) for o in near)
+        return hit
+    for o in near:
         fixed = FixedSegment(obstacles[o])
         still = np.zeros((len(q0), 1))
         hit |= motion_collides(kin, base, q0, delta, fixed, (0.0, 0.0), still, still, float(buffer + buffers[o]), tol)

@@ -3,9 +3,10 @@
 Part of :mod:`.validate` (see its docstring for the rule), kept apart only for size.  A
 step is a motion **linear in joint angle**, ``θ(t) = θ_0 + t·Δθ`` (``t ∈ [0, 1]``, all joints
 of all robots together); robot ``p``'s colliding segment at any angles is its kinematics'
-``segments_at_deg`` placed at its base (each robot its own geometry), fixed obstacles are
-segments with buffers.  Of :mod:`supcoord.geometry` the validator uses only that (and
-:meth:`Problem.angles_deg`), never the collision tables or their sweeps: segment distances
+two-link chain (:meth:`~supcoord.geometry.joint_space.Kinematics.chain`, the formula of its
+``segments_at_deg``, evaluated for all robots at once by :func:`supcoord.geometry.chain.chain_segments`)
+placed at its base (each robot its own geometry), fixed obstacles are segments with buffers.
+Of :mod:`supcoord.geometry` the validator uses only that (and :meth:`Problem.angles_deg`), never the collision tables or their sweeps: segment distances
 are Ericson's clamped closest points, neighbours come from its own bound, and each step is
 sampled, then bisected with the pair's Lipschitz bound: every point of robot ``p``'s segment
 moves at most ``L_p = reach_p·|Δα| + ρ_p·|Δβ|`` (radians; ``reach_p`` the kinematics' reach,
@@ -25,6 +26,9 @@ import math
 from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
+
+from ..geometry.chain import chain_angles_deg, chain_segments
+from ..geometry.fleet import chain_arrays
 
 if TYPE_CHECKING:
     from .problem import Problem
@@ -130,6 +134,8 @@ class Bodies:
                 self.kins.append(kin)
             group[p] = keys[key]
         self.reach = np.array([self.kins[g].reach for g in group], float).reshape(n)
+        # each robot's arms (the kinematics' chain), to place robots with their own arms at once
+        self.l1, self.seg, self.offsets = chain_arrays([self.kins[g] for g in group])
         radius = [_segment_radius(k) for k in self.kins]
         self.radius = np.array([radius[g] for g in group], float).reshape(n)
         self.obstacles = np.asarray(getattr(problem, "obstacles", np.zeros((0, 2, 2))), float).reshape(-1, 2, 2)
@@ -174,10 +180,11 @@ class Bodies:
         if len(self.kins) == 1 and not self.m:
             return self.kins[0].segments_at_deg(angles) + self.bases[e][:, None, None, :]
         out = np.empty(angles.shape[:-1] + (2, 2))
-        for gi, kin in enumerate(self.kins):
-            sel = g == gi
-            if sel.any():
-                out[sel] = kin.segments_at_deg(angles[sel]) + self.bases[e[sel]][:, None, None, :]
+        rob = np.nonzero(g >= 0)[0]
+        if len(rob):
+            r = e[rob]
+            a, b = chain_angles_deg(angles[rob], self.offsets[r][:, None, :])
+            out[rob] = chain_segments(self.l1[r][:, None], self.seg[r][:, None], a, b) + self.bases[r][:, None, None, :]
         obs = g < 0
         if obs.any():
             out[obs] = self.obstacles[e[obs] - self.n][:, None, :, :]
