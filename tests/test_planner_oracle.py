@@ -31,7 +31,8 @@ from strategies import tight_problems, tight_route
 
 from supcoord.planning import solve
 from supcoord.problems import parse_problem, validate_plan
-from supcoord.testing.oracle import oracle_bounds, oracle_solve
+from supcoord.testing.oracle import oracle_bounds, oracle_check_steps, oracle_optimal_makespan, oracle_solve
+from supcoord.testing.oracle.bfs import MAX_STEP_KINDS
 from supcoord.testing.oracle.cases import tight_problem
 
 #: what the comparison must reach
@@ -43,11 +44,23 @@ KINDS = ("feasible", "infeasible", "whole component solved", "grown window solve
 def check_against_oracle(data: dict, plan, p) -> int | None:
     """The comparison of one case (module docstring); the oracle's distance."""
     distance = oracle_solve(data)
+    if distance is None and plan.status == "complete":  # no single-move plan: one with simultaneous moves
+        assert not plan.events and plan.stats["plan_model"] == "simultaneous"
+        assert oracle_check_steps(data, plan.configurations) is None, data.get("seed")  # the oracle's own replay
+        assert validate_plan(p, plan)["valid"]
+        return None
     assert plan.status == ("complete" if distance is not None else "infeasible"), (data.get("seed"), plan.reason)
     if distance is None:
         cert = plan.stats["certificate"]
         assert cert and set(cert) <= set(range(p.n))
         assert oracle_solve(data, members=cert) is None, (data.get("seed"), cert)  # a real certificate
+        if plan.stats["certificate_model"] == "simultaneous":  # it holds for simultaneous moves too
+            # the oracle enumerates the 3^joints − 1 simultaneous steps of a configuration: it checks
+            # the claims it can enumerate (test_exact_oracle checks every claim, on small cases)
+            alone = "positioners alone" in plan.reason
+            robots = cert if alone else range(p.n)
+            if 3 ** (len(robots) * p.kinematics.n_joints) - 1 <= MAX_STEP_KINDS:
+                assert oracle_optimal_makespan(data, members=cert if alone else None) is None, (data.get("seed"), cert)
     else:
         result = validate_plan(p, plan)
         assert result["valid"], result["problems"]
@@ -91,7 +104,7 @@ def test_random_tight_problems_agree_with_the_oracle(data, setting):
 @given(data=tight_problems(max_n=3, max_product=5_000), supervisor=st.booleans())
 def test_monolithic_rank_is_the_oracle_distance(data, supervisor):
     p = parse_problem(data)
-    plan = solve(p, route="monolithic", supervisor=supervisor)
+    plan = solve(p, route="monolithic", supervisor=supervisor, simultaneous=False)
     distance = oracle_solve(data)
     assert plan.status == ("complete" if distance is not None else "infeasible")
     if distance is None:
@@ -118,7 +131,7 @@ def test_answers_at_exact_touches_lie_between_the_oracle_bounds(name, seed):
     p = random_problem(np.array(TIES[name], float), {"kind": "rotary", "arm": 15.0, "steps": 12}, 2.0, seed=seed)
     data = p.to_json()
     lo, hi = oracle_bounds(data)
-    plan = solve(p)
+    plan = solve(p, simultaneous=False)  # the oracle's bounds are those of the single-move model
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:

@@ -56,6 +56,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "motion_time_s (each step lasts what its slowest joint needs)")
     p.add_argument("--trajectories-csv", metavar="FILE.csv",
                    help="write the trajectories as robot,joint,t_s,deg rows (needs --speed)")
+    p.add_argument("--single-move-only", action="store_true",
+                   help="answer infeasible as soon as no plan moves one joint at a time (default: then search "
+                        "plans with several joints and positioners moving at once before answering)")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -117,7 +120,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     for warning in problem.warnings:
         console.warn(warning)
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
-                 progress=console.progress, speed=speed, improve=improve)
+                 progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only)
     if args.out:
         plan.dump(args.out, problem)
     if csv is not None and plan.trajectories is not None:
@@ -132,7 +135,9 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     s = plan.stats
     if plan.status == "complete":
         text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "
-                f"{s.get('single_moves')} single moves, {s.get('windows')} symbolic solve(s), "
+                + (f"{s.get('single_moves')} single moves, " if s.get("plan_model") != "simultaneous" else
+                   "simultaneous moves (no single-move plan exists), ")
+                + f"{s.get('windows')} symbolic solve(s), "
                 f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
         if plan.motion_time_s is not None:
             text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"

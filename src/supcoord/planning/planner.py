@@ -23,6 +23,10 @@ schedules), and the schedule is shortened by re-planning the positioners that se
 the makespan in space-time (:mod:`.improve`).  Every complete plan is checked
 with the independent validator before it is returned.
 
+Where the single-move model has no plan, the simultaneous model (several joints and
+robots moving at once, :mod:`.optimum`) is searched before the answer: a plan found
+there is returned, and an ``infeasible`` verdict says which model it holds for.
+
 References
 ----------
 - M. Macktoobian, D. Gillet, J.-P. Kneib, IFAC LSS 2019, doi:10.1016/j.ifacol.2019.06.011
@@ -113,11 +117,50 @@ def solve_window(model: CoordinationModel, members: Sequence[int], frozen: np.nd
     return WindowResult(rank, moves, stats)
 
 
-def _reason(problem: Problem, members: Sequence[int], how: str) -> str:
+#: the simultaneous search after a single-move certificate: its budget, and the largest
+#: pair table ``9^J·9^J·positions²`` (entries) it may build
+SIMULTANEOUS_NODES = 2_000_000
+SIMULTANEOUS_SECONDS = 60.0
+SIMULTANEOUS_TABLE = 20_000_000
+
+
+def _reason(problem: Problem, members: Sequence[int], how: str, simultaneous: dict[str, Any]) -> str:
+    """The reason of an infeasible verdict: the certificate, and the motion model it holds for."""
     ids = ", ".join(str(p) for p in sorted(members))
-    return (f"positioners {ids} cannot all reach their targets even with every other positioner removed "
-            f"({how}); no plan exists for the whole problem in which one joint moves at a time (the single-move "
-            f"model; moves of several joints at once are not searched)")
+    head = f"positioners {ids} cannot all reach their targets even with every other positioner removed ({how})"
+    if simultaneous["model"] == "simultaneous":
+        return (f"{head}; no plan exists for the whole problem, even with several joints and positioners moving "
+                f"at once (every joint -1, 0 or +1 position per step: {simultaneous['how']})")
+    return (f"{head}; no plan exists for the whole problem in which one joint moves at a time (the single-move "
+            f"model); moves of several joints at once: {simultaneous['how']}")
+
+
+def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budget) -> dict[str, Any]:
+    """After a single-move certificate ``members``: search the simultaneous model
+    (:func:`.optimum.optimal_makespan`), first the relaxed sub-problem of ``members`` (a
+    simultaneous plan of the whole, restricted to them, is one of it: unreachable there
+    extends the certificate to simultaneous moves), then, if that has a plan, the whole
+    problem (a plan there is returned).  ``{"model", "how", "path"}``."""
+    from .optimum import optimal_makespan
+
+    kin = problem.kinematics
+    table = (3 ** kin.n_joints) ** 2 * kin.n_positions ** 2
+    if table > SIMULTANEOUS_TABLE:
+        return {"model": "single-move", "path": None,
+                "how": f"not searched (a pair's simultaneous table would hold {table:,} entries at this resolution)"}
+    sub = Budget(max_nodes=SIMULTANEOUS_NODES, timeout=SIMULTANEOUS_SECONDS, max_memory=budget.max_memory)
+    try:
+        relaxed = optimal_makespan(problem, members=members, budget=sub)
+        if relaxed["makespan"] is None:
+            return {"model": "simultaneous", "path": None,
+                    "how": "an exhaustive symbolic search of the same positioners alone"}
+        whole = optimal_makespan(problem, budget=sub, want_path=True)
+    except BudgetExceeded as exc:
+        return {"model": "single-move", "path": None,
+                "how": f"the simultaneous search did not finish within its budget ({exc})"}
+    if whole["makespan"] is None:
+        return {"model": "simultaneous", "path": None, "how": "an exhaustive symbolic search of the whole problem"}
+    return {"model": "simultaneous", "path": whole["path"], "how": "a plan found by the simultaneous search"}
 
 
 def _easier_direction(problem: Problem, model: CoordinationModel,
@@ -149,7 +192,7 @@ def _easier_direction(problem: Problem, model: CoordinationModel,
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
           validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
-          improve: int | None = None, speed: float | None = None) -> Plan:
+          improve: int | None = None, speed: float | None = None, simultaneous: bool = True) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
@@ -162,7 +205,12 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     not seconds, so the same input gives the same plan on any machine and load.  ``events`` is the exact single-move witness, the
     configurations its (improved) simultaneous schedule, ``angles_deg`` their joint angles; ``speed``
     (degrees per second; None: none) adds ``trajectories`` and ``motion_time_s``
-    (:mod:`supcoord.problems.trajectory`).  A budget that runs out raises
+    (:mod:`supcoord.problems.trajectory`).  Where the single-move model has no plan,
+    ``simultaneous`` (default) searches the simultaneous model before answering (every joint
+    −1, 0 or +1 per step, :func:`.optimum.optimal_makespan`): first the certificate's robots
+    alone, then the whole problem; a plan found there is returned without ``events`` (no
+    single-move sequence exists), and ``stats["certificate_model"]`` says which model an
+    ``infeasible`` verdict holds for (the reason says it in words).  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
     if not isinstance(problem, Problem):
@@ -206,13 +254,20 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     lb = lower_bound(problem)
     if moves is None:
         members, how = certificate
-        stats["seconds"] = time.perf_counter() - t0
+        sim = _simultaneous_search(problem, members, budget) if simultaneous else \
+            {"model": "single-move", "path": None, "how": "not searched (simultaneous=False)"}
         stats["certificate"] = sorted(int(p) for p in members)
-        return Plan("infeasible", [], None, lb, [], _reason(problem, members, how), stats)
-    plan = plan_from_schedule(problem, moves)
-    stats["schedule"] = plan.stats["schedule"]
-    stats["single_moves"] = len(moves)
-    if (improve is None or improve > 0) and plan.makespan > plan.lower_bound:
+        stats["certificate_model"] = sim["model"]
+        if sim["path"] is None:
+            stats["seconds"] = time.perf_counter() - t0
+            return Plan("infeasible", [], None, lb, [], _reason(problem, members, how, sim), stats)
+        stats["plan_model"] = "simultaneous"  # no single-move plan exists: no single-move events
+        plan = Plan("complete", sim["path"], len(sim["path"]) - 1, lb, [], "", {})
+    else:
+        plan = plan_from_schedule(problem, moves)
+        stats["schedule"] = plan.stats["schedule"]
+        stats["single_moves"] = len(moves)
+    if moves is not None and (improve is None or improve > 0) and plan.makespan > plan.lower_bound:
         confs, st = improve_plan(problem, plan.configurations, improve,
                                  check=lambda: model.ctx.check_budget("improve"))
         stats.update(makespan_scheduled=plan.makespan, improve_seconds=st["seconds"], improved_groups=st["improved"],
