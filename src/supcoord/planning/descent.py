@@ -77,11 +77,7 @@ def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarr
     nj = problem.kinematics.n_joints
     dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
     xa, da, yb, db = (x, dp, y, dq) if side == 0 else (y, dq, x, dp)
-    keys = problem.__dict__.setdefault("_pair_geometry_keys", {})
-    pair_key = keys.get(k)
-    if pair_key is None:
-        pair_key = keys[k] = problem.geometry_key(a, b)
-    key = pair_key + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
+    key = problem.pair_geometry_key(k) + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
                                         tuple(int(v) for v in yb), tuple(int(v) for v in db))
     hit = cache.get(key)
     if hit is None:

@@ -50,9 +50,11 @@ Adjacency = list[list[tuple[int, int, int]]]
 def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
     """``B[m, i, j]``: move ``m`` of the pair member ``side`` (0: ``a``, 1: ``b``) from its
     position ``i`` is blocked while the other stands at ``j`` — oriented mover first,
-    symmetrised with the reverse move from the end pose (module docstring)."""
+    symmetrised with the reverse move from the end pose (module docstring).  Shared, like the
+    swept tables, by the pairs of equal geometry (:meth:`Problem.pair_geometry_key`): one
+    table per offset on a grid of identical robots, not one per pair."""
     cache = problem.__dict__.setdefault("_blocked_cache", {})
-    key = (k, side)
+    key = problem.pair_geometry_key(k) + (side,)
     if key in cache:
         return cache[key]
     tables, kin = problem.tables(), problem.kinematics

@@ -121,6 +121,15 @@ class Problem:
         return (float(off[0]), float(off[1]), round(float(self.buffers[a] + self.buffers[b]), 9), int(ids[a]),
                 int(ids[b]))
 
+    def pair_geometry_key(self, k: int) -> tuple:
+        """:meth:`geometry_key` of the neighbour pair ``k`` (:attr:`pairs`), computed once per pair."""
+        keys = self.__dict__.setdefault("_pair_geometry_keys", {})
+        key = keys.get(k)
+        if key is None:
+            a, b = self.pairs[k]
+            key = keys[k] = self.geometry_key(int(a), int(b))
+        return key
+
     @property
     def pairs(self) -> np.ndarray:
         """Neighbour pairs ``(a, b)``, ``a < b`` (:func:`~supcoord.geometry.collision.neighbour_pairs`)."""
