@@ -117,10 +117,12 @@ def solve_window(model: CoordinationModel, members: Sequence[int], frozen: np.nd
     return WindowResult(rank, moves, stats)
 
 
-#: the simultaneous search after a single-move certificate: its budget, and the largest
-#: pair table ``9^J·9^J·positions²`` (entries) it may build
+#: the simultaneous search after a single-move certificate: at most this many joints in all
+#: (measured: 5 alpha-beta robots of 6×4 positions take ~6 s, 7 exceed 2 million nodes after
+#: ~50 s), this many live BDD nodes, and pair tables of at most this many entries
+#: (``3^J·3^J·positions²``); limits of work, not seconds, so the answer is the same on any machine
+SIMULTANEOUS_JOINTS = 10
 SIMULTANEOUS_NODES = 2_000_000
-SIMULTANEOUS_SECONDS = 60.0
 SIMULTANEOUS_TABLE = 20_000_000
 
 
@@ -148,14 +150,24 @@ def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budge
     if table > SIMULTANEOUS_TABLE:
         return {"model": "single-move", "path": None,
                 "how": f"not searched (a pair's simultaneous table would hold {table:,} entries at this resolution)"}
-    sub = Budget(max_nodes=SIMULTANEOUS_NODES, timeout=SIMULTANEOUS_SECONDS, max_memory=budget.max_memory)
+    if len(members) * kin.n_joints > SIMULTANEOUS_JOINTS:
+        return {"model": "single-move", "path": None,
+                "how": f"not searched ({len(members)} positioners: more than {SIMULTANEOUS_JOINTS} joints)"}
+    remaining = None if budget.timeout is None else max(budget.timeout - budget.elapsed(), 1e-3)
+    limit = SIMULTANEOUS_NODES if budget.max_nodes is None else min(SIMULTANEOUS_NODES, budget.max_nodes)
+    sub = Budget(max_nodes=limit, timeout=remaining, max_memory=budget.max_memory)
     try:
         relaxed = optimal_makespan(problem, members=members, budget=sub)
         if relaxed["makespan"] is None:
             return {"model": "simultaneous", "path": None,
                     "how": "an exhaustive symbolic search of the same positioners alone"}
+        if problem.n * kin.n_joints > SIMULTANEOUS_JOINTS:
+            return {"model": "single-move", "path": None,
+                    "how": f"these positioners alone can reach their targets in {relaxed['makespan']} steps; the whole "
+                           f"problem ({problem.n} positioners, more than {SIMULTANEOUS_JOINTS} joints) was not searched"}
         whole = optimal_makespan(problem, budget=sub, want_path=True)
     except BudgetExceeded as exc:
+        budget.check("simultaneous search")  # the user's own time or memory ran out: "unknown"
         return {"model": "single-move", "path": None,
                 "how": f"the simultaneous search did not finish within its budget ({exc})"}
     if whole["makespan"] is None:
