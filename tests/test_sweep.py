@@ -10,8 +10,17 @@ import numpy as np
 import pytest
 
 from supcoord.geometry import AlphaBeta, Rotary
-from supcoord.geometry.collision import static_table, swept_table
-from supcoord.geometry.sweep import arc_segment_distance, rotation_clearance
+from supcoord.geometry.collision import CollisionTables, static_table, swept_table
+from supcoord.geometry.layout import hex_grid
+from supcoord.geometry.sweep import (
+    annulus_clear,
+    arc_segment_distance,
+    bisect_turns,
+    rotation_certain,
+    rotation_clearance,
+    turn_radii,
+    turn_slack,
+)
 from supcoord.planning.planner import solve
 from supcoord.problems.problem import parse_problem
 from supcoord.problems.validate import segment_distance_ericson, validate_plan
@@ -152,3 +161,92 @@ def test_tight_pass_that_grazes_is_blocked():
     assert plan.status == "complete" and validate_plan(problem, plan)["valid"]
     assert plan.stats["single_moves"] >= 3
     assert any(c[1] != 6 for c in plan.configurations)
+
+
+def _random_turns(seed, n):
+    """``n`` random turns: segments, centres (a third at the segment's first end, as beta turns),
+    angles up to ±π, standing segments (some far, some inside the annulus) and buffer sums."""
+    rng = np.random.default_rng(seed)
+    seg, other = rng.uniform(-6, 6, (n, 2, 2)), rng.uniform(-6, 6, (n, 2, 2))
+    centre = np.where((np.arange(n) % 3 == 0)[:, None], seg[:, 0], rng.uniform(-4, 4, (n, 2)))
+    scale = rng.choice([0.05, 1.0, 3.0], n)[:, None, None]  # standing segments near, around or far from the centre
+    other = centre[:, None] + scale * (other - centre[:, None])
+    angle = rng.uniform(-1, 1, n) * rng.choice([0.1, 0.6, np.pi], n)
+    bsum = rng.uniform(0.0, 3.0, n)
+    return seg, centre, angle, other, bsum
+
+
+@pytest.mark.timeout(60)
+def test_rotation_certain_is_sound():
+    """Every entry the cheap tests call free keeps the buffers; every one they call hit does not."""
+    seg, centre, angle, other, bsum = _random_turns(11, 6000)
+    exact = rotation_clearance(seg, centre, angle, other)
+    for depth in (0, 1, 2, 3):
+        free, hit = rotation_certain(seg, centre, angle, other, bsum, depth=depth)
+        assert not np.any(free & hit)
+        assert np.all(exact[free] >= bsum[free]), depth
+        assert np.all(exact[hit] < bsum[hit]), depth
+        assert free.mean() > 0.2 and hit.mean() > 0.2  # both sides are exercised
+    # deeper bisection decides more
+    assert rotation_certain(seg, centre, angle, other, bsum, depth=3)[0].sum() > \
+        rotation_certain(seg, centre, angle, other, bsum, depth=0)[0].sum()
+
+
+@pytest.mark.timeout(60)
+def test_annulus_clear_is_sound():
+    seg, centre, angle, other, bsum = _random_turns(12, 6000)
+    r_min, r_max = turn_radii(seg, centre)
+    clear = annulus_clear(centre, r_min, r_max, other, bsum)
+    exact = rotation_clearance(seg, centre, angle, other)
+    assert 0.05 < clear.mean() < 0.95
+    assert np.all(exact[clear] >= bsum[clear])
+    # both cases occur: the standing segment outside the annulus, and inside its hole
+    far = np.maximum(np.linalg.norm(other[:, 0] - centre, axis=1), np.linalg.norm(other[:, 1] - centre, axis=1))
+    assert np.any(clear & (far < r_min)) and np.any(clear & (far > r_max))
+
+
+@pytest.mark.timeout(60)
+def test_bisect_turns_is_sound_at_every_depth():
+    """The sampled bound alone (no annulus): open entries aside, its verdicts match the closed form."""
+    seg, centre, angle, other, bsum = _random_turns(13, 6000)
+    exact = rotation_clearance(seg, centre, angle, other)
+    _, r_max = turn_radii(seg, centre)
+
+    def turned(k, width):  # every segment turned by k/width of its angle: (n, 2, 2)
+        c, s = np.cos(angle * k / width)[:, None], np.sin(angle * k / width)[:, None]
+        rel = seg - centre[:, None]
+        return centre[:, None] + np.stack([c * rel[..., 0] - s * rel[..., 1], s * rel[..., 0] + c * rel[..., 1]],
+                                          axis=-1)
+
+    for depth in (0, 1, 2, 3):
+        width = 2 ** depth
+        poses = [turned(k, width) for k in range(width + 1)]
+        dist = np.stack([segment_distance_ericson(p[:, 0], p[:, 1], other[:, 0], other[:, 1]) for p in poses], axis=1)
+
+        def pose_distance(e, k, dist=dist):
+            return dist[e, k]
+
+        slack = np.stack([turn_slack(r_max, angle, 2 ** level) for level in range(depth + 1)], axis=-1)
+        hit, open_ = bisect_turns(dist[:, 0], dist[:, -1], slack, bsum, pose_distance, depth)
+        free = ~hit & ~open_ & (np.minimum(dist[:, 0], dist[:, -1]) >= bsum)
+        assert free.mean() > 0.1 and (depth == 0 or hit.mean() > 0.05)  # depth 0 samples no pose inside
+        assert np.all(exact[free] >= bsum[free]), depth
+        assert np.all(exact[hit] < bsum[hit]), depth
+
+
+@pytest.mark.timeout(60)
+def test_batch_swept_matches_the_pairwise_tables():
+    """:meth:`CollisionTables.prepare` (:func:`.batch.batch_swept`, with its cheap tests) gives
+    exactly the tables :func:`swept_table` computes pair by pair, robots with their own arms,
+    lattices and stops."""
+    rng = np.random.default_rng(5)
+    bases = hex_grid(2, 16.0)
+    kins = [AlphaBeta(float(rng.uniform(6, 10)), float(rng.uniform(8, 15)), int(rng.integers(5, 9)),
+                      int(rng.integers(3, 6)), [(0.0, 180.0), (-30.0, 150.0), (150.0, 180.0)][p % 3],
+                      alpha_range=None if p % 4 else (0.0, 300.0)) for p in range(len(bases))]
+    batch = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    batch.prepare(range(len(batch.pairs)))
+    single = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    for k in range(len(batch.pairs)):
+        for mover in (0, 1):
+            assert np.array_equal(batch.swept(k, mover), single.swept(k, mover)), (k, mover)

@@ -4,9 +4,15 @@
 focal plane (each robot its own arms and lattice) has thousands of distinct pairs, and
 the time then goes into the calls, not the arithmetic.  :func:`batch_swept` computes the
 same tables — the same end-point prefilter and the same exact closed form
-(:func:`.sweep.rotation_clearance`) on the same numbers — for a whole chunk of pairs, with
-one clearance call over every undecided entry of the chunk.  Each robot's segments,
-successors and rotations are computed once per distinct kinematics.
+(:func:`.sweep.rotation_clearance`) on the same numbers — for a whole chunk of pairs.
+Each robot's segments, successors, rotations and sampled poses are computed once per
+distinct kinematics.
+
+Between the two, the sound cheap tests of :func:`.sweep.rotation_certain` decide most
+entries the prefilter leaves open: the sampled bound over the whole turn (per table), the
+annulus, then the bisected turn (:func:`.sweep.bisect_turns`) over the whole chunk; one
+clearance call takes what is still open.  The tests decide only with :data:`.sweep.MARGIN`
+to spare, so every entry is what the closed form makes it: the tables are the same booleans.
 """
 
 from __future__ import annotations
@@ -17,15 +23,30 @@ import numpy as np
 
 from .joint_space import Kinematics
 from .segments import segment_distance
-from .sweep import rotation_clearance
+from .sweep import (
+    MARGIN,
+    _rotate,
+    annulus_clear,
+    bisect_turns,
+    rotation_clearance,
+    turn_radii,
+    turn_slack,
+)
 
-__all__ = ["batch_swept", "KinematicsArrays"]
+__all__ = ["KinematicsArrays", "batch_swept"]
+
+#: bisections of a turn before the closed form (:func:`.sweep.bisect_turns`): poses at k/4
+_DEPTH = 2
 
 
 class KinematicsArrays:
     """One kinematics' positions as arrays: segments ``S[i]`` (relative to the base) and, per
     move ``m``, the successor ``nxt[m, i]`` (−1 past a hard stop), the turn's centre and
-    angle (:meth:`Kinematics.rotation`) and the sweep length."""
+    angle (:meth:`Kinematics.rotation`) and the sweep length.  For :func:`batch_swept`: where a
+    move runs into a stop (``stop[m, i]``; ``nxt_or_self`` is ``i`` there), the sampled poses
+    ``poses[m, i, k]`` (``S_i`` turned by ``k/2**_DEPTH`` of the move, as ``(px, py, qx, qy)``),
+    the turn radii ``r_min``, ``r_max`` (:func:`.sweep.turn_radii`) and ``slack[m, i, l]``
+    (:func:`.sweep.turn_slack` of ``2**l`` pieces)."""
 
     def __init__(self, kin: Kinematics):
         pos = kin.all_positions()
@@ -45,6 +66,20 @@ class KinematicsArrays:
             d = np.zeros(kin.n_joints)
             d[joint] = delta
             self.length[m] = float(kin.sweep_length(d))
+        self.turn_samples()
+
+    def turn_samples(self) -> None:
+        """Compute ``stop``, ``poses``, ``r_min``, ``r_max`` and ``slack`` (class docstring)."""
+        self.stop = self.nxt < 0
+        self.nxt_or_self = np.where(self.stop, np.arange(self.nxt.shape[1]), self.nxt)
+        width = 2 ** _DEPTH
+        turn = self.angle[:, :, None] * (np.arange(width + 1) / width)  # (M, P, K)
+        centre = self.centre[:, :, None, :]
+        ends = [_rotate(self.segments[None, :, None, e, :], centre, turn) for e in (0, 1)]
+        self.poses = np.ascontiguousarray(np.concatenate(ends, axis=-1))  # (M, P, K, 4)
+        self.r_min, self.r_max = turn_radii(self.segments[None], self.centre)
+        self.slack = np.stack([turn_slack(self.r_max, self.angle, 2 ** level) for level in range(_DEPTH + 1)],
+                              axis=-1)
 
 
 def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArrays], offsets: Any,
@@ -54,32 +89,102 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
     ``b`` moving (``W1[m, i, j]``), as :func:`.collision.swept_table` defines them."""
     offsets = np.asarray(offsets, float).reshape(-1, 2)
     out: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
-    jobs: list[tuple] = []  # undecided entries: (table, m, i, j, seg, centre, angle, other, bsum)
+    # the open entries of each table (neither end pose nor the bound over the whole turn
+    # decides them): the table, flat indices f = (m·P + i)·P' + j, rows m·P + i, distances d0,
+    # d1; and where the table's data lie in the blocks below
+    jobs: list[tuple[np.ndarray, np.ndarray]] = []
+    rows, d0s, d1s, counts, heights, widths, job_bsum = [], [], [], [], [], [], []
+    at_kin, at_mover, at_turn, at_other = [], [], [], []
+    kin_at: dict[int, int] = {}
+    kins: list[KinematicsArrays] = []  # blocks: turn data per distinct kinematics (mover's frame)
+    movers, centres, angles, others, frames = [], [], [], [], []  # blocks per table
+    n_kin = n_mover = n_turn = n_other = 0
     for ka, kb, off, bsum in zip(arrays_a, arrays_b, offsets, np.asarray(bsums, float)):
         sa, sb = ka.segments, kb.segments + off
         dist = segment_distance(sa[:, None, 0], sa[:, None, 1], sb[None, :, 0], sb[None, :, 1])
         tables = []
         for mover, (km, seg_m, seg_s, shift, d) in enumerate(((ka, sa, sb, 0.0, dist),
-                                                                (kb, sb, sa, off, dist.T))):
-            w = np.ones((len(km.nxt),) + d.shape, dtype=bool)
-            for m in range(len(km.nxt)):
-                valid = np.nonzero(km.nxt[m] >= 0)[0]
-                d0, d1 = d[valid], d[km.nxt[m, valid]]
-                hit = (d0 < bsum) | (d1 < bsum)
-                free = ~hit & ((d0 + d1 - km.length[m]) / 2 >= bsum)
-                w[m, valid] = hit
-                ii, jj = np.nonzero(~hit & ~free)
-                if len(ii):
-                    rows = valid[ii]
-                    jobs.append((w, m, rows, jj, seg_m[rows], km.centre[m, rows] + shift, km.angle[m, rows],
-                                 seg_s[jj], bsum))
+                                                                (kb, sb, sa, off, np.ascontiguousarray(dist.T)))):
+            # the end-point prefilter, every move at once: hit if either end pose collides,
+            # free if (d0 + d1 − L)/2 ≥ bsum; a move past a stop is marked True
+            near = d < bsum
+            d1 = d[km.nxt_or_self]  # (M, P, P')
+            w = near[km.nxt_or_self]
+            w |= near
+            w |= km.stop[:, :, None]
+            lower = np.add(d, d1)  # d0 + d1 − L ≥ 2·bsum is (d0 + d1 − L)/2 ≥ bsum: halving is exact
+            lower -= km.length[:, None, None]
+            decided = lower >= 2 * bsum
+            decided |= w
+            flat = np.flatnonzero(~decided)
+            n_pos, n_other_pos = d.shape
+            if len(flat):
+                # the sampled bound over the whole turn (level 0 of sweep.bisect_turns)
+                row = flat // n_other_pos
+                e0, e1 = d.reshape(-1)[flat % d.size], d1.reshape(-1)[flat]
+                keep = (e0 + e1) * 0.5 - km.slack.reshape(-1, _DEPTH + 1)[row, 0] < bsum + MARGIN
+                if keep.any():
+                    if id(km) not in kin_at:
+                        kin_at[id(km)] = n_kin
+                        kins.append(km)
+                        n_kin += km.slack.shape[0] * n_pos
+                    jobs.append((w, flat[keep]))
+                    rows.append(row[keep])
+                    d0s.append(e0[keep])
+                    d1s.append(e1[keep])
+                    counts.append(int(np.count_nonzero(keep)))
+                    heights.append(n_pos)
+                    widths.append(n_other_pos)
+                    job_bsum.append(bsum)
+                    at_kin.append(kin_at[id(km)])
+                    at_mover.append(n_mover)
+                    at_turn.append(n_turn)
+                    at_other.append(n_other)
+            movers.append(seg_m)
+            centres.append((km.centre + shift).reshape(-1, 2))
+            angles.append(km.angle.reshape(-1))
+            others.append(seg_s)
+            frames.append((seg_s - shift).reshape(-1, 4))  # the standing segments in the mover's frame
+            n_mover += n_pos
+            n_turn += len(km.nxt) * n_pos
+            n_other += n_other_pos
             tables.append(w)
         out.append((dist, tables[0], np.swapaxes(tables[1], 1, 2)))
-    if jobs:
-        clearance = rotation_clearance(np.concatenate([j[4] for j in jobs]), np.concatenate([j[5] for j in jobs]),
-                                       np.concatenate([j[6] for j in jobs]), np.concatenate([j[7] for j in jobs]))
-        at = 0
-        for w, m, rows, cols, _, _, _, _, bsum in jobs:
-            w[m, rows, cols] = clearance[at:at + len(rows)] < bsum
-            at += len(rows)
+    if not jobs:
+        return out
+    counts = np.asarray(counts)
+    flat, row = np.concatenate([f for _, f in jobs]), np.concatenate(rows)
+    d0, d1 = np.concatenate(d0s), np.concatenate(d1s)
+    bsum = np.repeat(np.asarray(job_bsum), counts)
+    krow = np.repeat(np.asarray(at_kin), counts) + row
+    ocol = np.repeat(np.asarray(at_other), counts) + (flat - row * np.repeat(np.asarray(widths), counts))
+    # the annulus, then the bisected turn, in the mover's frame
+    r_min = np.concatenate([k.r_min.reshape(-1) for k in kins])[krow]
+    r_max = np.concatenate([k.r_max.reshape(-1) for k in kins])[krow]
+    centre = np.concatenate([k.centre.reshape(-1, 2) for k in kins])[krow]
+    frame = np.concatenate(frames)
+    todo = np.nonzero(~annulus_clear(centre, r_min, r_max, frame[ocol].reshape(-1, 2, 2), bsum))[0]
+    kr, oc = krow[todo], ocol[todo]
+    poses = np.concatenate([k.poses.reshape(-1, 2 ** _DEPTH + 1, 4) for k in kins])
+    slack = np.concatenate([k.slack.reshape(-1, _DEPTH + 1) for k in kins])[kr]
+
+    def pose_distance(e: np.ndarray, k: np.ndarray) -> np.ndarray:
+        p, t = poses[kr[e], k], frame[oc[e]]
+        return segment_distance(p[:, 0:2], p[:, 2:4], t[:, 0:2], t[:, 2:4])
+
+    hit, open_ = bisect_turns(d0[todo], d1[todo], slack, bsum[todo], pose_distance, _DEPTH)
+    result = np.zeros(len(d0), dtype=bool)
+    result[todo[hit]] = True
+    exact = todo[open_]
+    if len(exact):  # the closed form, on the very numbers the tables always used
+        trow = np.repeat(np.asarray(at_turn), counts)[exact] + row[exact]
+        i = row[exact] % np.repeat(np.asarray(heights), counts)[exact]
+        mrow = np.repeat(np.asarray(at_mover), counts)[exact] + i
+        clearance = rotation_clearance(np.concatenate(movers)[mrow], np.concatenate(centres)[trow],
+                                       np.concatenate(angles)[trow], np.concatenate(others)[ocol[exact]])
+        result[exact] = clearance < bsum[exact]
+    at = 0  # the open entries are False so far: set the collisions
+    for (w, f), n in zip(jobs, counts):
+        w.reshape(-1)[f[result[at:at + n]]] = True
+        at += n
     return out

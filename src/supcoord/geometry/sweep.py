@@ -28,6 +28,13 @@ rounding, far below a micrometre).
 This is what makes the swept collision tables exact: ``W[m, i, j] = min < r_a + r_b``,
 with no tolerance (:func:`supcoord.geometry.collision.swept_table`).
 
+Most entries of a table are far from the threshold, and cheaper sound tests decide them
+first (:func:`rotation_certain`; :func:`.batch.batch_swept` runs the same steps on
+precomputed poses): a sampled pose nearer than ``bsum`` is a collision, and two bounds
+prove the clearance: the *annulus* (:func:`annulus_clear`) and the *sampled bound*
+(:func:`bisect_turns`).  A test decides only with :data:`MARGIN` to spare, far more than
+the rounding of either computation, so it decides as the closed form would.
+
 References
 ----------
 - C. Ericson, *Real-Time Collision Detection*, Morgan Kaufmann 2005, §5.1.2 (point and
@@ -40,11 +47,16 @@ from typing import Any
 
 import numpy as np
 
-from .segments import point_segment_distance, segment_distance
+from .segments import _psd, point_segment_distance, segment_distance
 
-__all__ = ["arc_segment_distance", "rotation_clearance"]
+__all__ = ["MARGIN", "annulus_clear", "arc_segment_distance", "bisect_turns", "rotation_certain",
+           "rotation_clearance", "turn_radii", "turn_slack"]
 
 _TWO_PI = 2.0 * np.pi
+
+#: how far (mm) a cheap test must clear ``bsum`` to decide an entry instead of the closed form:
+#: many orders above the rounding of either computation (~1e-13 mm), so both decide alike
+MARGIN = 1e-9
 
 
 def _rotate(x: np.ndarray, c: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -129,3 +141,118 @@ def rotation_clearance(seg: Any, center: Any, angle: Any, other: Any) -> np.ndar
     best = np.minimum(best, arc_segment_distance(c, q, angle, a, b))
     best = np.minimum(best, arc_segment_distance(c, a, -angle, p, q))
     return np.minimum(best, arc_segment_distance(c, b, -angle, p, q))
+
+
+def turn_radii(seg: Any, center: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``(r_min, r_max)``: the least and greatest distance of a point of ``seg`` (``(..., 2, 2)``)
+    from ``center`` — the centre's distance to the segment, and the farther end point's
+    (distance from a point is convex along a segment).  A turn about ``center`` keeps them."""
+    seg, c = np.asarray(seg, float), np.asarray(center, float)
+    px, py, qx, qy = seg[..., 0, 0], seg[..., 0, 1], seg[..., 1, 0], seg[..., 1, 1]
+    cx, cy = c[..., 0], c[..., 1]
+    r_max = np.maximum(np.hypot(px - cx, py - cy), np.hypot(qx - cx, qy - cy))
+    return _psd(cx, cy, px, py, qx, qy), r_max
+
+
+def turn_slack(r_max: Any, angle: Any, parts: int = 1) -> np.ndarray:
+    """``2·r_max·sin(|angle| / (4·parts))``: what the sampled bound (:func:`bisect_turns`) loses
+    on a piece ``|angle| / parts`` of a turn (``|angle| ≤ 2π``)."""
+    return 2.0 * np.asarray(r_max, float) * np.sin(np.abs(np.asarray(angle, float)) / (4.0 * parts))
+
+
+def annulus_clear(center: Any, r_min: Any, r_max: Any, other: Any, bsum: Any) -> np.ndarray:
+    """True where the standing segment ``other`` is certainly at least ``bsum`` from every pose of
+    a segment turning about ``center`` with radii ``[r_min, r_max]`` (:func:`turn_radii`):
+    ``dist(c, T) ≥ r_max + bsum`` or ``max_{y ∈ T} |y − c| ≤ r_min − bsum`` (with :data:`MARGIN`).
+
+    Soundness: every point ``x`` of every pose has ``r_min ≤ |x − c| ≤ r_max``, so for ``y ∈ T``
+    ``|x − y| ≥ |y − c| − |x − c| ≥ bsum`` in the first case and ``≥ |x − c| − |y − c| ≥ bsum`` in
+    the second (the farthest point of ``T`` from ``c`` is an end point)."""
+    c, other = np.asarray(center, float), np.asarray(other, float)
+    cx, cy = c[..., 0], c[..., 1]
+    ax, ay, bx, by = other[..., 0, 0], other[..., 0, 1], other[..., 1, 0], other[..., 1, 1]
+    need = np.asarray(bsum, float) + MARGIN
+    outside = _psd(cx, cy, ax, ay, bx, by) >= r_max + need
+    far = np.maximum(np.hypot(ax - cx, ay - cy), np.hypot(bx - cx, by - cy))
+    return outside | (far + need <= r_min)
+
+
+def bisect_turns(d0: Any, d1: Any, slack: Any, bsum: Any, pose_distance: Any,
+                 depth: int) -> tuple[np.ndarray, np.ndarray]:
+    """Decide turns by sampling: ``(hit, open)`` boolean arrays over the entries.
+
+    Entry ``e`` turns a segment ``S`` by ``Δ`` past a standing ``T``, with ``d0``, ``d1`` the
+    distances of ``T`` from ``S(0)``, ``S(Δ)``, ``slack[e, l] = turn_slack(r_max, Δ, 2**l)``
+    (``l = 0..depth``) and ``pose_distance(e, k)`` the distance of ``T`` from the pose
+    ``S(k·Δ/2**depth)`` (entries ``e``, ``k`` arrays).  The turn is bisected ``depth`` times;
+    a piece ``[φ_k, φ_k']`` (``h = |φ_k' − φ_k|``) is *clear* when::
+
+        (d_k + d_k') / 2 − 2·r_max·sin(h/4) ≥ bsum + MARGIN
+
+    Soundness: a point of ``S`` at radius ``r ≤ r_max`` moves ``2r·sin(t/2)`` in a turn by ``t``,
+    so at ``φ`` in the piece the clearance is ``≥ d_k − 2r_max·sin(t/2)`` and ``≥ d_k' −
+    2r_max·sin((h−t)/2)``; their mean is ``≥`` the bound, as ``sin`` is concave on ``[0, π]``.
+
+    ``hit[e]``: a sampled pose is nearer than ``bsum − MARGIN`` (an actual collision).
+    ``open[e]``: neither a hit nor every piece clear; the other entries are certainly free.
+    """
+    d0, d1 = np.asarray(d0, float), np.asarray(d1, float)
+    slack = np.asarray(slack, float)
+    bsum = np.broadcast_to(np.asarray(bsum, float), d0.shape)
+    hit = np.zeros(len(d0), dtype=bool)
+    # the open pieces: entry, left sample, distances at both ends
+    ent = np.nonzero((d0 + d1) * 0.5 - slack[:, 0] < bsum + MARGIN)[0]
+    lo, dl, dr = np.zeros(len(ent), dtype=np.int64), d0[ent], d1[ent]
+    width = 2 ** depth
+    for level in range(1, depth + 1):
+        if not len(ent):
+            break
+        width //= 2
+        dm = pose_distance(ent, lo + width)
+        hit[ent[dm < bsum[ent] - MARGIN]] = True
+        need, s = bsum[ent] + MARGIN, slack[ent, level]
+        keep = np.concatenate([(dl + dm) * 0.5 - s < need, (dm + dr) * 0.5 - s < need])
+        ent = np.concatenate([ent, ent])
+        keep &= ~hit[ent]
+        ent, lo = ent[keep], np.concatenate([lo, lo + width])[keep]
+        dl, dr = np.concatenate([dl, dm])[keep], np.concatenate([dm, dr])[keep]
+    open_ = np.zeros(len(d0), dtype=bool)
+    open_[ent] = True
+    return hit, open_ & ~hit
+
+
+def rotation_certain(seg: Any, center: Any, angle: Any, other: Any, bsum: Any,
+                     depth: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """``(free, hit)``: where the turn of :func:`rotation_clearance` (``|angle| ≤ 2π``) certainly
+    keeps ``bsum`` from ``other`` (:func:`annulus_clear`, :func:`bisect_turns`), and where a pose
+    certainly comes nearer; the closed form decides the rest (both false).  Arrays of any
+    matching leading shape; what :func:`.batch.batch_swept` does with precomputed poses.
+
+    >>> seg, other = [[1, 0], [3, 0]], [[-1, 2.5], [1, 2.5]]
+    >>> [bool(v) for v in rotation_certain(seg, [0, 0], np.pi / 2, other, 0.5)]   # clearance 0
+    [False, True]
+    >>> [bool(v) for v in rotation_certain(seg, [0, 0], np.pi / 8, other, 0.5)]   # clearance > 1.9
+    [True, False]
+    """
+    seg, other = np.asarray(seg, float), np.asarray(other, float)
+    c, angle = np.asarray(center, float), np.asarray(angle, float)
+    shape = np.broadcast_shapes(seg.shape[:-2], other.shape[:-2], c.shape[:-1], angle.shape, np.shape(bsum))
+    seg, other = (np.broadcast_to(v, shape + (2, 2)).reshape(-1, 2, 2) for v in (seg, other))
+    c, angle = np.broadcast_to(c, shape + (2,)).reshape(-1, 2), np.broadcast_to(angle, shape).reshape(-1)
+    bsum = np.broadcast_to(np.asarray(bsum, float), shape).reshape(-1)
+    width = 2 ** depth
+
+    def pose_distance(e: np.ndarray, k: np.ndarray) -> np.ndarray:
+        turn = angle[e] * (k / width)
+        p, q = _rotate(seg[e, 0], c[e], turn), _rotate(seg[e, 1], c[e], turn)
+        return segment_distance(p, q, other[e, 0], other[e, 1])
+
+    all_ = np.arange(len(bsum))
+    d0 = segment_distance(seg[:, 0], seg[:, 1], other[:, 0], other[:, 1])
+    d1 = pose_distance(all_, np.full(len(all_), width))
+    r_min, r_max = turn_radii(seg, c)
+    slack = np.stack([turn_slack(r_max, angle, 2 ** level) for level in range(depth + 1)], axis=-1)
+    hit, open_ = bisect_turns(d0, d1, slack, bsum, pose_distance, depth)
+    hit |= np.minimum(d0, d1) < bsum - MARGIN
+    free = ~hit & (~open_ | annulus_clear(c, r_min, r_max, other, bsum))
+    return free.reshape(shape), hit.reshape(shape)
