@@ -35,7 +35,10 @@ from .backend import BDD, dag_size, load_backend
 from .budget import Budget, ProgressCallback
 from .counting import exact_count
 
-__all__ = ["Context", "FiniteVar", "Budget", "load_backend", "ThrottledCheck", "CHECK_EVERY"]
+__all__ = ["Context", "FiniteVar", "Budget", "load_backend", "ThrottledCheck", "CHECK_EVERY", "MANY_BITS"]
+
+#: declared bits beyond which quantifier cubes are built once and kept (:meth:`Context.and_exist`)
+MANY_BITS = 2048
 
 
 @dataclass(frozen=True)
@@ -87,6 +90,7 @@ class Context:
         self._apa: Callable[[BDD, int], int] | None = None  # CUDD's exact count, once validated
         self._apa_checked = False
         self._live: Callable[[], int] | None = None
+        self._cubes: dict[tuple[str, ...], BDD] = {}  # quantifier cubes of a manager of many bits
 
     # -- declaration ---------------------------------------------------------
 
@@ -239,16 +243,44 @@ class Context:
     def exist(self, names: Iterable[str], u: BDD, primed: bool = False) -> BDD:
         """``∃ names . u`` over the (primed) bits of the given variables."""
         qbits = self.bits(names, primed)
-        return self.bdd.exist(qbits, u) if qbits else u
+        if not qbits:
+            return u
+        if self._many_bits():
+            return self.bdd.apply("\\E", self._cube(qbits), u)
+        return self.bdd.exist(qbits, u)
 
     def and_exist(self, u: BDD, v: BDD, qbits: Sequence[str]) -> BDD:
-        """``∃ qbits . u ∧ v`` in one pass (CUDD's AndAbstract) where available."""
+        """``∃ qbits . u ∧ v`` in one pass (CUDD's AndAbstract) where available.
+
+        In a manager of many bits (a whole focal plane's windows: tens of thousands) the
+        quantifier's cube costs more than the operation: ``dd`` builds it from an array over
+        *every* declared bit at each call (~0.3 ms at 20,000 bits, whatever the operands).
+        There the cube is built once from the quantified bits' own nodes and kept, and the
+        conjunction is quantified by ``ExistAbstract`` (:data:`MANY_BITS`)."""
         if not qbits:
             return u & v
+        if self._many_bits():
+            return self.bdd.apply("\\E", self._cube(qbits), u & v)
         fn = getattr(self._module, "and_exists", None)
         if fn is not None:
             return fn(u, v, qbits)
         return self.bdd.exist(qbits, u & v)
+
+    def _many_bits(self) -> bool:
+        return self.backend == "cudd" and len(self._bit_owner) > MANY_BITS
+
+    def _cube(self, qbits: Sequence[str]) -> BDD:
+        """The conjunction of the bits ``qbits`` (positive cube), built once per set of bits."""
+        key = tuple(qbits)
+        cube = self._cubes.get(key)
+        if cube is None:
+            if len(self._cubes) >= 4096:
+                self._cubes.clear()
+            cube = self.bdd.true
+            for b in sorted(set(qbits), key=self.bdd.level_of_var, reverse=True):
+                cube = self.bdd.var(b) & cube
+            self._cubes[key] = cube
+        return cube
 
     # -- counting, picking, enumerating --------------------------------------
 
