@@ -36,9 +36,7 @@ from .budget import Budget, ProgressCallback
 from .counting import exact_count
 
 __all__ = ["Context", "FiniteVar", "Budget", "load_backend", "ThrottledCheck", "CHECK_EVERY", "MANY_BITS"]
-
-#: declared bits beyond which quantifier cubes are built once and kept (:meth:`Context.and_exist`)
-MANY_BITS = 2048
+MANY_BITS = 2048  # declared bits beyond which quantifier cubes are kept (Context.and_exist)
 
 
 @dataclass(frozen=True)
@@ -243,20 +241,15 @@ class Context:
     def exist(self, names: Iterable[str], u: BDD, primed: bool = False) -> BDD:
         """``∃ names . u`` over the (primed) bits of the given variables."""
         qbits = self.bits(names, primed)
-        if not qbits:
-            return u
-        if self._many_bits():
-            return self.bdd.apply("\\E", self._cube(qbits), u)
+        if not qbits or self._many_bits():  # many bits: a kept cube (and_exist)
+            return self.bdd.apply("\\E", self._cube(qbits), u) if qbits else u
         return self.bdd.exist(qbits, u)
 
     def and_exist(self, u: BDD, v: BDD, qbits: Sequence[str]) -> BDD:
-        """``∃ qbits . u ∧ v`` in one pass (CUDD's AndAbstract) where available.
-
-        In a manager of many bits (a whole focal plane's windows: tens of thousands) the
-        quantifier's cube costs more than the operation: ``dd`` builds it from an array over
-        *every* declared bit at each call (~0.3 ms at 20,000 bits, whatever the operands).
-        There the cube is built once from the quantified bits' own nodes and kept, and the
-        conjunction is quantified by ``ExistAbstract`` (:data:`MANY_BITS`)."""
+        """``∃ qbits . u ∧ v`` in one pass (CUDD's AndAbstract) where available; past
+        :data:`MANY_BITS` bits (a focal plane's windows) ``dd``'s cube, rebuilt from an array
+        over every declared bit at each call (~0.3 ms at 20,000 bits), costs more than the
+        operation: there a kept cube quantifies the conjunction (``ExistAbstract``)."""
         if not qbits:
             return u & v
         if self._many_bits():
@@ -271,15 +264,12 @@ class Context:
 
     def _cube(self, qbits: Sequence[str]) -> BDD:
         """The conjunction of the bits ``qbits`` (positive cube), built once per set of bits."""
-        key = tuple(qbits)
-        cube = self._cubes.get(key)
+        cube = self._cubes.get(tuple(qbits))
         if cube is None:
-            if len(self._cubes) >= 4096:
-                self._cubes.clear()
-            cube = self.bdd.true
+            self._cubes = {} if len(self._cubes) >= 4096 else self._cubes
+            cube = self._cubes[tuple(qbits)] = self.bdd.true
             for b in sorted(set(qbits), key=self.bdd.level_of_var, reverse=True):
-                cube = self.bdd.var(b) & cube
-            self._cubes[key] = cube
+                cube = self._cubes[tuple(qbits)] = self.bdd.var(b) & cube
         return cube
 
     # -- counting, picking, enumerating --------------------------------------
