@@ -19,6 +19,12 @@ builds ``G`` and ``allevents(G) || S``, runs ``supcon`` and ``ccc(full=False)`` 
 - the results, which must not depend on the order: states, transitions, marked, CCC,
   rank, witness length.
 
+Each point runs under one fixpoint variant (``--variants``): ``new`` (default
+saturation: write groups fired by their local transitive closure,
+:data:`supcoord.synthesis.reachability.LOCAL_CLOSURES`) and ``old`` (saturation over the
+plain event steps, the code before this change), so one run compares both on the same
+machine and load; the results must be equal under every variant and order.
+
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
 (``supcon_naive``) and libFAUDES's ``SupCon`` and compares state and transition counts.
@@ -26,6 +32,7 @@ for that order (``--all`` runs them anyway, to show where each stops).  With ``-
 Usage::
 
     python benchmarks/bench_coupled.py --all --check --nodes   # N = 3..7, 19, 37; writes results/coupled.md
+    python benchmarks/bench_coupled.py --orders auto --variants old new --all --check --nodes
     python benchmarks/bench_coupled.py --sizes 3 4 5 --timeout 60 --check
     python benchmarks/bench_coupled.py --quick          # N = 3, 4; 30 s; prints, writes nothing
 """
@@ -45,6 +52,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = [3, 4, 5, 6, 7, 19, 37]
 ORDERS = ["layout", "auto"]
+VARIANTS = ["old", "new"]
 STEPS = 8
 MEMORY = 6 * 2**30
 
@@ -57,7 +65,7 @@ def _emit(kind: str, data: dict) -> None:
     print(kind, json.dumps(data), flush=True)
 
 
-def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: bool) -> None:
+def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: bool, variant: str = "new") -> None:
     """One point; prints ``P {...}`` progress lines and a final ``R {...}`` line."""
     from supcoord.bdd import Context
     from supcoord.paper.coupled import CoupledModel, coupled_models, positioner_order
@@ -66,6 +74,7 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     from supcoord.synthesis import reachability as R
     from supcoord.synthesis.product import product
 
+    R.LOCAL_CLOSURES = variant == "new"  # "old": saturation over the plain event steps
     Context()  # load dd.cudd before timing
     t0 = time.perf_counter()
     last = {"stage": "build"}
@@ -107,7 +116,7 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     t3 = time.perf_counter()
     st = res.stats
     out = {
-        "size": size, "steps": steps, "seed": seed, "order": order, "positioner_order": positioner_order(model, order),
+        "size": size, "steps": steps, "seed": seed, "order": order, "variant": variant, "positioner_order": positioner_order(model, order),
         "states": st["states"], "transitions": st["transitions"], "marked": st["marked"], "ccc": c.forcible,
         "rank": c.rank, "witness_length": len(c.witness), "witness": c.witness,
         "seconds": round(t3 - t0, 3), "build": round(t1 - t0, 3), "supcon": round(t2 - t1, 3),
@@ -150,8 +159,9 @@ def _limit() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
 
 
-def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool) -> dict:
-    cmd = [sys.executable, os.path.abspath(__file__), "--worker", str(size), order, str(seed)]
+def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool,
+              variant: str = "new") -> dict:
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", str(size), order, str(seed), variant]
     cmd += ["--check"] if check else []
     cmd += ["--nodes"] if nodes else []
     t = time.perf_counter()
@@ -166,7 +176,7 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
     lines = [ln.split(" ", 1) for ln in text.splitlines() if ln[:2] in ("P ", "R ")]
     result = next((json.loads(j) for k, j in lines if k == "R"), None)
     progress = [json.loads(j) for k, j in lines if k == "P"]
-    row = result or {"size": size, "order": order}
+    row = result or {"size": size, "order": order, "variant": variant}
     row.update(status=status, wall=round(wall, 2))
     if result is None:
         row["last_stage"] = progress[-1] if progress else None
@@ -185,7 +195,7 @@ def _fmt(v) -> str:
 
 
 def table(rows: list[dict]) -> str:
-    head = ["N", "order", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "images",
+    head = ["N", "order", "variant", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "images",
             "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
             "transitions", "rank", "equal to explicit / libFAUDES"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -198,7 +208,7 @@ def table(rows: list[dict]) -> str:
         if "explicit_equal" in r:
             eq = f"{'yes' if r['explicit_equal'] else 'NO'} ({r['explicit_seconds']} s) / " \
                  f"{'yes' if r['faudes_equal'] else 'NO'} ({r['faudes_seconds']} s)"
-        cells = [r["size"], r["order"], status, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
+        cells = [r["size"], r["order"], r.get("variant", "new"), status, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
                  r.get("supcon"), r.get("ccc_seconds"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
@@ -222,6 +232,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=SIZES)
     ap.add_argument("--orders", nargs="+", default=ORDERS, choices=["layout", "auto", "bandwidth"])
+    ap.add_argument("--variants", nargs="+", default=VARIANTS, choices=VARIANTS,
+                    help="fixpoint variants to compare (old: plain event steps; new: local closures)")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--check", action="store_true", help="compare with the explicit twin and libFAUDES (N <= 4)")
@@ -229,11 +241,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--all", action="store_true", help="run every size even after one ran out of time")
     ap.add_argument("--quick", action="store_true", help="N = 3, 4, 30 s, print only")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "coupled.md"))
-    ap.add_argument("--worker", nargs=3, help=argparse.SUPPRESS)
+    ap.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
-        size, order, seed = args.worker
-        worker(int(size), STEPS, int(seed), order, args.check, args.nodes)
+        size, order, seed, variant = args.worker
+        worker(int(size), STEPS, int(seed), order, args.check, args.nodes, variant)
         return 0
     if args.quick:
         args.sizes, args.timeout = [3, 4], 30.0
@@ -243,10 +255,13 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for order in args.orders:
         for size in sorted(args.sizes):
-            row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes)
-            rows.append(row)
-            print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
-            if "states" not in row and not args.all:
+            stop = True
+            for variant in args.variants:  # side by side: same size, same load
+                row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes, variant)
+                rows.append(row)
+                print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
+                stop &= "states" not in row
+            if stop and not args.all:
                 break  # larger N would not finish either
     load_after = os.getloadavg()
     text = table(rows)
@@ -265,12 +280,14 @@ def main(argv: list[str] | None = None) -> int:
         f.write(f"Each point: a fresh subprocess, {args.timeout:g} s and 6 GiB at most; n = {STEPS} steps, "
                 f"seed {args.seed}.\n\n")
         f.write(text + "\n\n" + agree + "\n\n")
-        f.write("Columns: seconds are inside the worker (imports excluded): `build` = instance, geometry tables "
-                "and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
+        f.write("Columns: `variant` = `old` (saturation over the plain event steps, the code before the local "
+                "closures) or `new` (write groups fired by their local transitive closure, closures computed "
+                "inside `reach`); seconds are inside the worker (imports excluded): `build` = instance, geometry "
+                "tables and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
                 "fixpoints; `supcon` = all of supcon including exact counts; `ccc` = forcibility layers up to "
                 "`q0` and the witness.  `images`, `image s`, `max operand` profile the images of supcon's "
                 "fixpoints (`ImageProfile`; `max operand` only with `--nodes`).  `clusters` = saturation's "
-                "event clusters (1 = saturation degenerates into chaining).  `reach nodes` = BDD of the "
+                "event clusters of the plain steps (1 = saturation degenerates into chaining).  `reach nodes` = BDD of the "
                 "reachable set; `V nodes` = supervisor (relations included); `peak nodes` = CUDD's peak of "
                 "live nodes.\n\nRaw rows (JSON):\n\n```\n")
         for r in rows:
@@ -281,7 +298,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _agreement(rows: list[dict]) -> str:
-    """Where both orders finish, every result must be equal."""
+    """Where several orders or variants finish, every result must be equal."""
     keys = ("states", "transitions", "marked", "ccc", "rank", "witness")
     by = {}
     for r in rows:
@@ -291,7 +308,7 @@ def _agreement(rows: list[dict]) -> str:
     for size, rs in sorted(by.items()):
         if len(rs) > 1:
             same = all(all(r[k] == rs[0][k] for k in keys) for r in rs[1:])
-            lines.append(f"N = {size}: {' and '.join(r['order'] for r in rs)} give "
+            lines.append(f"N = {size}: {' and '.join(r['order'] + '/' + r.get('variant', 'new') for r in rs)} give "
                          f"{'the same' if same else 'DIFFERENT'} states, transitions, marked, CCC, rank and witness")
     return "\n".join(lines) or "no size finished under two orders"
 

@@ -4,8 +4,10 @@ The order of the positioners' variable blocks changes BDD sizes and times only: 
 result (states, transitions, marked, CCC verdict, rank, witness) must be the same under
 every order, and equal to the explicit twin's and libFAUDES's where those finish.  The
 bandwidth order must actually give saturation more than one event cluster (in layout
-order every event's top level is the centre's, so saturation was chaining).  No timings
-here: benchmarks/bench_coupled.py measures them.
+order every event's top level is the centre's, so saturation was chaining).  The local
+closures of saturation (a positioner's write group fired by its transitive closure) must
+give the plain steps' results too.  No timings here: benchmarks/bench_coupled.py
+measures them.
 """
 
 from __future__ import annotations
@@ -26,8 +28,9 @@ from supcoord.paper.coupled import (
 from supcoord.paper.literal import paper_example
 from supcoord.paper.run import coupled_instance, run_paper
 from supcoord.synthesis import ccc, event_clusters, supcon, supcon_naive
+from supcoord.synthesis.image_step import event_steps
 from supcoord.synthesis.product import product
-from supcoord.synthesis.reachability import ImageProfile, reachable
+from supcoord.synthesis.reachability import ImageProfile, coreachable, reachable
 
 
 def _model(size: int, steps: int = 8, seed: int = 0) -> CoupledModel:
@@ -130,3 +133,73 @@ def test_image_profile_counts_the_images_and_changes_nothing():
     before = outer.images
     reachable(P)  # inactive again: nothing recorded
     assert outer.images == before
+
+
+# -- local closures (issue 15): the accelerated saturation against the plain steps ----------
+
+
+def _results_with(model: CoupledModel, closures: bool, monkeypatch) -> tuple:
+    from supcoord.synthesis import reachability as R
+
+    monkeypatch.setattr(R, "LOCAL_CLOSURES", closures)
+    return _results(model, "auto")
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("size, seed", [(3, 0), (3, 1), (4, 0), (4, 1)])
+def test_local_closures_give_the_plain_steps_supervisor_and_ccc(size, seed, monkeypatch):
+    """States, transitions, marked, CCC verdict, rank and witness: equal with and without
+    the local closures (N = 3, 4; two seeds); N = 3 also equal to the explicit twin."""
+    model = _model(size, 8, seed)
+    new = _results_with(model, True, monkeypatch)
+    assert new == _results_with(model, False, monkeypatch)
+    if size == 3:
+        naive = supcon_naive(*coupled_models_explicit(model))
+        assert (naive.n_states, naive.n_transitions, len(naive.marked)) == new[:3]
+
+
+@pytest.mark.timeout(60)
+def test_local_closures_fire_one_step_per_positioner_and_fewer_images():
+    """Each positioner's events and its specification's (``pos, lvl, cnt``) form one write
+    group, fired by its closure; the reachable set is the same with fewer images."""
+    from supcoord.synthesis import reachability as R
+
+    model = _model(4, 8, 0)
+    ctx = Context()
+    P = product(*coupled_models(model, ctx))
+    plain = event_steps(P, None, True)
+    steps = R.local_closures(ctx, plain, P.invariant)
+    assert len(steps) == 4 and all(not s.clip for s in steps)
+    assert sorted(sorted(s.writes) for s in steps) == [[f"cnt{i}", f"lvl{i}", f"pos{i}"] for i in range(1, 5)]
+    assert sorted(e for s in steps for e in s.event.split("|")) == sorted(s.event for s in plain)
+    try:
+        R.LOCAL_CLOSURES = False
+        with ImageProfile() as old:
+            before = reachable(P)
+    finally:
+        R.LOCAL_CLOSURES = True
+    with ImageProfile() as new:
+        after = reachable(P)
+    assert after == before
+    assert new.images < old.images
+
+
+@pytest.mark.timeout(30)
+def test_a_group_leaving_the_invariant_keeps_its_plain_steps():
+    """``0 → 3`` leaves ``Q = {0, 1, 2}`` and ``3 → 1`` comes back: a closure through the
+    invalid code would reach ``1``; the guard ``Img(Q) ⊆ Q`` keeps the plain steps."""
+    from supcoord.des.generator import Event
+    from supcoord.des.symbolic import EventRelation, SymbolicGenerator
+    from supcoord.synthesis import reachability as R
+
+    ctx = Context()
+    ctx.add_variable("x", 3)  # two bits, code 3 invalid
+    three, three_p = ctx.cube({"x_1": True, "x_0": True}), ctx.cube({"x_1'": True, "x_0'": True})
+    rel = (ctx.eq("x", 0) & three_p) | (three & ctx.eq("x", 1, primed=True))
+    rel2 = ctx.eq("x", 1) & ctx.eq("x", 2, primed=True)
+    events = {"a": EventRelation(Event("a", True), rel, ("x",)), "b": EventRelation(Event("b", True), rel2, ("x",))}
+    G = SymbolicGenerator(ctx, "G", ("x",), events, ctx.eq("x", 0), ctx.eq("x", 2), ctx.domain(["x"]))
+    assert reachable(G) == ctx.eq("x", 0)
+    assert coreachable(G) == ctx.eq("x", 2) | ctx.eq("x", 1)
+    steps = R.local_closures(ctx, event_steps(G, None, True), G.invariant)
+    assert [s.event for s in steps] == ["a", "b"] and steps[0].clip and not steps[1].clip

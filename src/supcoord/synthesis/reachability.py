@@ -23,6 +23,14 @@ to schedule the images (``method``), all computing the same fixpoint:
   (their supports meet its write set or vice versa); a final check that no event
   adds anything makes the result exact even where ``within`` couples components.
 
+**Local closures** (``LOCAL_CLOSURES``, used by ``"saturation"`` when ``within`` is not
+given): each write group's steps are replaced by one step with the transitive closure of
+the group's relation (:mod:`.closures`).  Computing the closures costs ~0.1 s, more than
+a small fixpoint takes: saturation first runs ``_CLOSURE_AFTER`` images with the plain
+steps and switches to the closures only if it has not ended by then, resuming from the
+partial set ``X`` (``init ⊆ X ⊆ Reach(init)``, so the fixpoint is the same).
+
+
 The explicit twins :func:`reachable_naive` and :func:`coreachable_naive` are the
 reference the tests compare against.
 
@@ -32,6 +40,11 @@ References
   transition relations, VLSI 1991 (partitioned images).
 - G. Ciardo, G. Lüttgen, R. Siminiceanu, Saturation: an efficient iteration strategy
   for symbolic state-space generation, TACAS 2001.
+- G. Ciardo, R. Marmorstein, R. Siminiceanu, Saturation unbound, TACAS 2003 (firing
+  an event to its local fixpoint; transitive closure of local relations).
+- J. R. Burch, E. M. Clarke, K. L. McMillan, D. L. Dill, L. J. Hwang, Symbolic model
+  checking: 10^20 states and beyond, LICS 1990 (transitive closure by iterative
+  squaring).
 - A. Vahidi, M. Fabian, B. Lennartson, Efficient supervisory synthesis of large
   systems, Control Engineering Practice 2006 (event-partitioned workset iteration).
 - W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, 2019, §2.5.
@@ -39,8 +52,6 @@ References
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass
 from typing import Iterable
 
 from ..bdd.context import BDD, Context, ThrottledCheck
@@ -48,6 +59,8 @@ from ..des import explicit_ops as X
 from ..des.generator import Generator
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
+from .closures import local_closures, write_groups
+from .image_step import ImageProfile, ImageStep, event_steps
 
 __all__ = [
     "METHODS",
@@ -60,140 +73,43 @@ __all__ = [
     "event_clusters",
     "trim",
     "trim_naive",
+    "LOCAL_CLOSURES",
+    "write_groups",
+    "local_closures",
 ]
 
 METHODS = ("bfs", "chaining", "saturation")
 DEFAULT_METHOD = "saturation"
 
-
-@dataclass(frozen=True)
-class _Step:
-    """One event's image in one direction: ``X ↦ image(X) ∩ inside``.
-
-    Renaming ``x'_W ↔ x_W`` is itself an ``AndAbstract`` with the identity
-    ``I_W = ∧_{b ∈ W} (b ↔ b')`` (twins are adjacent levels): measured 1.4–2× faster
-    than ``dd``'s ``let``, whose vector composition loops over every declared variable."""
-
-    event: str
-    relation: BDD
-    qbits: tuple[str, ...]  # bits quantified by the image's AndAbstract
-    ident: BDD  # I_W
-    rbits: tuple[str, ...]  # bits quantified by the renaming AndAbstract
-    forward: bool
-    writes: frozenset[str]
-    support: frozenset[str]  # variables read or written
-
-    def image(self, ctx: Context, x: BDD, inside: BDD) -> BDD:
-        if _PROFILES:
-            return _profiled(self, ctx, x, inside)
-        return self._image(ctx, x, inside)
-
-    def _image(self, ctx: Context, x: BDD, inside: BDD) -> BDD:
-        if self.forward:
-            # Post_σ(X) = ∃ x'_W . (∃ x_W . X ∧ R_σ) ∧ I_W   — i.e. (…)[x'_W := x_W] — ∩ inside
-            return ctx.and_exist(ctx.and_exist(x, self.relation, self.qbits), self.ident, self.rbits) & inside
-        # Pre_σ(X) = ∃ x'_W . R_σ ∧ (∃ x_W . X ∧ I_W)   — i.e. X[x_W := x'_W] — ∩ inside
-        return ctx.and_exist(self.relation, ctx.and_exist(x, self.ident, self.rbits), self.qbits) & inside
-
-
-class ImageProfile:
-    """Measurements of every image the fixpoints of this module take while it is active
-    (``with ImageProfile() as prof: supcon(G, E)``): ``images`` (count), ``seconds`` (in
-    images), ``by_event`` (``{event: [count, seconds]}``, merged events joined by ``|``)
-    and, with ``nodes=True``, ``max_operand``/``max_result``, the largest BDD (nodes) an
-    image was applied to / returned — the intermediate sets of the fixpoint, which the
-    final sets' sizes do not show.  Counting nodes walks each operand: ``nodes=True``
-    slows the images down (~10–20 %); without it the cost is two clock reads."""
-
-    def __init__(self, nodes: bool = False) -> None:
-        self.nodes = nodes
-        self.images = 0
-        self.seconds = 0.0
-        self.max_operand = 0
-        self.max_result = 0
-        self.by_event: dict[str, list] = {}
-
-    def __enter__(self) -> ImageProfile:
-        _PROFILES.append(self)
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        _PROFILES.remove(self)
-
-    def as_dict(self) -> dict:
-        out = {"images": self.images, "image_seconds": round(self.seconds, 4)}
-        if self.nodes:
-            out.update(max_operand_nodes=self.max_operand, max_result_nodes=self.max_result)
-        return out
-
-
-_PROFILES: list[ImageProfile] = []
-
-
-def _profiled(step: _Step, ctx: Context, x: BDD, inside: BDD) -> BDD:
-    t = time.perf_counter()
-    out = step._image(ctx, x, inside)
-    dt = time.perf_counter() - t
-    for p in _PROFILES:
-        p.images += 1
-        p.seconds += dt
-        row = p.by_event.setdefault(step.event, [0, 0.0])
-        row[0] += 1
-        row[1] += dt
-        if p.nodes:
-            p.max_operand = max(p.max_operand, ctx.node_count(x))
-            p.max_result = max(p.max_result, ctx.node_count(out))
-    return out
-
-
-def _steps(G: SymbolicGenerator, events: Iterable[str] | None, forward: bool) -> list[_Step]:
-    """The images to apply; events writing nothing (selfloops) or with an empty
-    relation can never add a state and are left out."""
-    ctx = G.ctx
-    owner = {}
-    for v in G.variables:
-        fv = ctx.vars[v]
-        for b in fv.bits + fv.primed_bits:
-            owner[b] = v
-    identities: dict[tuple[str, ...], BDD] = {}
-    steps = []
-    for name in G.events if events is None else events:
-        r = G.relation(name)
-        if not r.writes or r.relation == ctx.false:
-            continue
-        bits, pbits = tuple(ctx.bits(r.writes)), tuple(ctx.bits(r.writes, primed=True))
-        ident = identities.get(tuple(r.writes))
-        if ident is None:
-            ident = identities[tuple(r.writes)] = ctx.identity(r.writes)
-        qbits, rbits = (bits, pbits) if forward else (pbits, bits)
-        support = frozenset(owner.get(b, b) for b in ctx.bdd.support(r.relation)) | frozenset(r.writes)
-        steps.append(_Step(name, r.relation, qbits, ident, rbits, forward, frozenset(r.writes), support))
-    return steps
+#: ``"saturation"`` without ``within`` fires write groups by their local closure (module
+#: docstring); ``False`` restores the plain event steps (the benchmark's "old" variant)
+LOCAL_CLOSURES = True
+_CLOSURE_AFTER = 256  # images of plain saturation before the closures are worth computing
 
 
 def event_clusters(G: SymbolicGenerator, events: Iterable[str] | None = None) -> list[list[str]]:
     """The events grouped by their top BDD level, ordered bottom-up (deepest first),
     as :func:`reachable` with ``method="saturation"`` fires them."""
-    return [[s.event for s in c] for c in _clusters(G.ctx, _steps(G, events, True))]
+    return [[s.event for s in c] for c in _clusters(G.ctx, event_steps(G, events, True))]
 
 
-def _clusters(ctx: Context, steps: list[_Step]) -> list[list[_Step]]:
+def _clusters(ctx: Context, steps: list[ImageStep]) -> list[list[ImageStep]]:
     """Saturation's partition: events grouped by ``Top(σ)``, the highest BDD level
     (closest to the root) their relation reads or writes, deepest group first.
     (Grouping by write set instead was measured 10–25 % slower on the benchmark
     families.)"""
-    groups: dict[int, list[_Step]] = {}
+    groups: dict[int, list[ImageStep]] = {}
     for s in steps:
         top = min(ctx.bdd.level_of_var(b) for b in ctx.bits(sorted(s.support)))
         groups.setdefault(top, []).append(s)
     return [groups[t] for t in sorted(groups, reverse=True)]
 
 
-def _merge_by_writes(ctx: Context, steps: list[_Step]) -> list[_Step]:
+def _merge_by_writes(ctx: Context, steps: list[ImageStep]) -> list[ImageStep]:
     """One step per write set: ``Img_{σ∨τ}(X) = Img_σ(X) ∪ Img_τ(X)`` when ``σ`` and
     ``τ`` write the same variables (``∃`` distributes over ``∨``, same rename), so a
     cluster's events cost one image per write set instead of one per event."""
-    groups: dict[frozenset[str], list[_Step]] = {}
+    groups: dict[frozenset[str], list[ImageStep]] = {}
     for s in steps:
         groups.setdefault(s.writes, []).append(s)
     out = []
@@ -206,8 +122,8 @@ def _merge_by_writes(ctx: Context, steps: list[_Step]) -> list[_Step]:
             rel |= s.relation
         first = group[0]
         support = frozenset().union(*(s.support for s in group))
-        out.append(_Step("|".join(s.event for s in group), rel, first.qbits, first.ident, first.rbits,
-                         first.forward, first.writes, support))
+        out.append(ImageStep("|".join(s.event for s in group), rel, first.qbits, first.ident, first.rbits,
+                         first.forward, first.writes, support, any(s.clip for s in group)))
     return out
 
 
@@ -248,7 +164,16 @@ def _fixpoint(G: SymbolicGenerator, seeds: BDD, within: BDD | None, method: str,
     _check_method(method)
     inside = G.invariant if within is None else within & G.invariant
     stage = "reachable" if forward else "coreachable"
-    return _FIXPOINTS[method](G.ctx, seeds & inside, inside, _steps(G, events, forward), stage)
+    steps = event_steps(G, events, forward)
+    x = seeds & inside
+    if method == "saturation" and within is None and LOCAL_CLOSURES and G.ctx.backend == "cudd":
+        # plain steps first (small fixpoints end here); a long one resumes from its partial
+        # set with the write groups' closures: init ⊆ X ⊆ Reach(init) gives the same fixpoint
+        x, done = _saturate(G.ctx, x, inside, steps, stage, _CLOSURE_AFTER)
+        if done:
+            return x
+        steps = local_closures(G.ctx, steps, inside)
+    return _FIXPOINTS[method](G.ctx, x, inside, steps, stage)
 
 
 def trim(G: SymbolicGenerator, name: str | None = None, *, method: str = DEFAULT_METHOD) -> SymbolicGenerator:
@@ -263,7 +188,7 @@ def trim(G: SymbolicGenerator, name: str | None = None, *, method: str = DEFAULT
 # -- the three schedules -------------------------------------------------------
 
 
-def _bfs(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: str) -> BDD:
+def _bfs(ctx: Context, init: BDD, inside: BDD, steps: list[ImageStep], stage: str) -> BDD:
     """``X_{k+1} = X_k ∪ Img(F_k)``, ``F_{k+1} = Img(F_k) \\ X_k``."""
     x, frontier, xold, k = init, init, None, 0
     while x != xold:
@@ -279,7 +204,7 @@ def _bfs(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: str) -
     return x
 
 
-def _sweep(ctx: Context, x: BDD, inside: BDD, steps: list[_Step], seen: list[BDD], idx: Iterable[int],
+def _sweep(ctx: Context, x: BDD, inside: BDD, steps: list[ImageStep], seen: list[BDD], idx: Iterable[int],
            stage: str = "image", method: str = "chaining", iteration: int = 0) -> BDD:
     """Chaining over ``steps[i]`` for ``i`` in ``idx``: ``X := X ∪ Img_σ(X)``, skipping
     an event whose last operand ``seen_σ`` is ``X`` itself (its images are in ``X``).
@@ -294,7 +219,7 @@ def _sweep(ctx: Context, x: BDD, inside: BDD, steps: list[_Step], seen: list[BDD
     return x
 
 
-def _chaining(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: str) -> BDD:
+def _chaining(ctx: Context, init: BDD, inside: BDD, steps: list[ImageStep], stage: str) -> BDD:
     """One sweep applies the events in turn, each to the set grown by the ones before
     it (only to states it has not seen); until a sweep adds nothing."""
     seen = [ctx.false] * len(steps)
@@ -308,11 +233,18 @@ def _chaining(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: s
     return x
 
 
-def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage: str) -> BDD:
+def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[ImageStep], stage: str) -> BDD:
     """Fire the deepest dirty cluster to its local fixpoint; re-dirty the clusters that
     do not commute with it; when none is dirty, every event whose last operand is not
     the current set dirties its cluster again (exactness where ``inside`` couples)."""
-    merged: list[_Step] = []
+    return _saturate(ctx, init, inside, steps, stage)[0]
+
+
+def _saturate(ctx: Context, init: BDD, inside: BDD, steps: list[ImageStep], stage: str,
+              max_images: int | None = None) -> tuple[BDD, bool]:
+    """:func:`_saturation`, stopping after about ``max_images`` images: ``(X, done)``
+    with ``init ⊆ X ⊆ Reach(init)`` (so a fixpoint resumed from ``X`` is exact)."""
+    merged: list[ImageStep] = []
     clusters = []
     for c in _clusters(ctx, steps):
         first = len(merged)
@@ -327,15 +259,18 @@ def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage:
         [j for j in range(n) if j != k and (support[j] & writes[k] or writes[j] & support[k])] for k in range(n)
     ]
     seen = [ctx.false] * len(steps)
-    x, k = init, 0
+    x, k, images = init, 0, 0
     check = ThrottledCheck(ctx, _CHECK_EVERY)  # local fixpoints are many and cheap: throttle
     dirty = set(range(n))
     while dirty:
+        if max_images is not None and images >= max_images:
+            return x, False
         c = min(dirty)  # the deepest dirty cluster first
         dirty.discard(c)
         y, yold = x, None
         while y != yold:  # local fixpoint: μY. X ∪ ⋃_{σ ∈ cluster} Img_σ(Y)
             yold = y
+            images += sum(1 for i in clusters[c] if seen[i] != y)  # the images this sweep takes
             y = _sweep(ctx, y, inside, steps, seen, clusters[c], stage, "saturation", k + 1)
         if y != x:
             x = y
@@ -344,7 +279,7 @@ def _saturation(ctx: Context, init: BDD, inside: BDD, steps: list[_Step], stage:
         check(stage, iteration=k, method="saturation")
         if not dirty:
             dirty = {j for j, cl in enumerate(clusters) if any(seen[i] != x for i in cl)}
-    return x
+    return x, True
 
 
 _CHECK_EVERY = 0.25  # seconds between budget checks inside saturation
