@@ -73,7 +73,7 @@ def test_symbolic_verdict_and_rank_equal_the_oracle(name, seed):
         confs = apply_moves(p, res.moves)
         assert np.array_equal(confs[-1], p.target)
     for route in ("local", "monolithic"):
-        plan = solve(p, route=route)
+        plan = solve(p, route=route, simultaneous=False)  # the oracle's distance is the single-move model's
         assert plan.status == ("complete" if distance is not None else "infeasible")
         if distance is None:
             assert "positioners" in plan.reason and plan.stats["certificate"]
@@ -239,7 +239,7 @@ def test_local_route_verdicts_equal_the_oracle(p):
     """Drawn distances may put arms at exactly the buffer sum (15 + 4 = 19 mm): the oracle's
     bounds (ties free, ties blocked) then frame the answer instead of one distance."""
     lo, hi = oracle_bounds(p.to_json())
-    plan = solve(p)
+    plan = solve(p, simultaneous=False)  # the oracle's bounds are the single-move model's
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:
@@ -252,6 +252,11 @@ def test_local_route_verdicts_equal_the_oracle(p):
         assert validate_plan(p, plan)["valid"]
         assert plan.lower_bound <= plan.makespan <= len(plan.events)
         assert lo is not None and lo <= len(plan.events)
+    default = solve(p)  # with the simultaneous search: a plan wherever the single-move model has one
+    if default.status == "complete":
+        assert validate_plan(p, default)["valid"]
+    else:
+        assert plan.status == "infeasible" and default.stats["certificate_model"] in ("simultaneous", "single-move")
 
 
 @settings(max_examples=15, deadline=None)
