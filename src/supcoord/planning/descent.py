@@ -103,7 +103,6 @@ class _Lookups:
         self.steps = [j.steps for j in kin.joints]
         self.wraps = [j.wraps for j in kin.joints]
         self.strides = [int(v) for v in kin._strides]
-        self.blocked: dict[tuple[int, int], np.ndarray] = {}
 
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
         out = q.copy()
@@ -119,12 +118,6 @@ class _Lookups:
             v[j] += d
         return sum((x % n if w else x) * st for x, n, w, st in zip(v, self.steps, self.wraps, self.strides))
 
-    def blocked_table(self, k: int, side: int) -> np.ndarray:
-        out = self.blocked.get((k, side))
-        if out is None:
-            out = self.blocked[(k, side)] = blocked_table(self.problem, k, side)
-        return out
-
 
 def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
     return [list(s) for r in range(len(ms) + 1) for s in itertools.combinations(ms, r)]
@@ -132,7 +125,7 @@ def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
 
 def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: np.ndarray, mq: list) -> bool:
     """Condition (1) for the moves ``mp`` of the pair member ``side`` against ``mq``."""
-    blocked = T.blocked_table(k, side)
+    blocked = blocked_table(T.problem, k, side)
     cp, cq = cp.tolist(), cq.tolist()
     q_poses = [T.flat_after(cq, s) for s in _subsets(mq)]
     for mv in mp:
