@@ -25,13 +25,23 @@ class Recorder:
     def __init__(self, monkeypatch):
         self.kinds: Counter = Counter()
         self.run: set[str] = set()
+        self.few_solved = 0
         grow, whole, descent = windows._Windows.grow, windows._Windows.whole, windows.descent
+        few = windows._Windows._few_displaced
+
+        def rec_few(win, *args):
+            out = few(win, *args)
+            if out is not None:
+                self.run.add("few-displaced window solved")
+                self.few_solved += 1
+            return out
 
         def rec_grow(win, p, c, done, comp, cap):
+            before = self.few_solved
             out = grow(win, p, c, done, comp, cap)
             self.run.add("window")
-            if out.kind == "solved" and len(out.members) > 1:
-                self.run.add("grown window solved")
+            if out.kind == "solved" and len(out.members) > 1 and self.few_solved == before:
+                self.run.add("grown window solved")  # by the window's full search
             if out.kind == "gave_up":
                 self.run.add("window cap hit")
             if "descent moved" in self.run:
@@ -52,6 +62,7 @@ class Recorder:
 
         monkeypatch.setattr(windows._Windows, "grow", rec_grow)
         monkeypatch.setattr(windows._Windows, "whole", rec_whole)
+        monkeypatch.setattr(windows._Windows, "_few_displaced", rec_few)
         monkeypatch.setattr(windows, "descent", rec_descent)
         monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
 

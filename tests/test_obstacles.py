@@ -65,6 +65,23 @@ def test_a_robot_goes_round_an_obstacle():
     assert not free.unary()
 
 
+@pytest.mark.parametrize("options", [{}, {"greedy": False}, {"route": "monolithic"}, {"improve": 0}])
+def test_a_robot_without_neighbours_still_goes_round_an_obstacle(options):
+    # 200 mm apart: no neighbour pair, so no pair table carries robot 0's obstacle; the
+    # short way round (alpha 0 -> 180 counter-clockwise) passes it
+    p = parse_problem({"layout": {"kind": "points", "xy": [[0.0, 0.0], [200.0, 0.0]],
+                                  "obstacles": [{"xy": [0.0, 15.0], "buffer": 1.0}]},
+                       "kinematics": KIN, "collision": {"buffer": 1.0},
+                       "start": {"alpha_beta_deg": [[0.0, 0.0], [0.0, 180.0]]},
+                       "target": {"alpha_beta_deg": [[150.0, 0.0], [0.0, 180.0]]}}, "o.json")
+    assert len(p.pairs) == 0 and set(p.unary()) == {0}
+    plan = supcoord.solve(p, **options)
+    assert plan.status == "complete" and supcoord.validate_plan(p, plan)["valid"]
+    alpha = p.angles_deg(np.array(plan.configurations))[:, 0, 0]
+    assert not np.any((alpha > 60.0) & (alpha < 150.0))  # never past the obstacle at 90 deg
+    assert _clearance_along(p, plan, 0, [0.0, 15.0]) >= 2.0
+
+
 def test_obstacles_on_both_sides_make_it_infeasible():
     # the elbow circle (radius 7.4) passes within 0.6 mm of both: alpha can turn neither way
     p = _two([{"xy": [0.0, 8.0], "buffer": 1.0}, {"xy": [0.0, -8.0], "buffer": 1.0}],

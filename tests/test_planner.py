@@ -7,6 +7,8 @@ planner's tables); :func:`~supcoord.testing.search.reachable_naive` and
 planner's own guards, check that the BDDs encode those guards.
 """
 
+import math
+
 import numpy as np
 import pytest
 
@@ -480,3 +482,26 @@ def test_improvement_shortens_a_known_plan():
     after = solve(p)
     assert after.makespan < before.makespan  # 14 -> 7 (the optimum, 7, is measured in bench_makespan)
     assert validate_plan(p, after)["valid"]
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot4", 1), ("rot4", 2), ("ab3", 0), ("ab3", 3)])
+def test_few_displaced_windows_reach_what_the_explicit_twin_reaches(name, seed):
+    """``displaced_at_most`` counts the members away from ``c``; the restricted system moves
+    only through such configurations (explicit twin: the same breadth-first search, told to
+    enter no configuration with more members away)."""
+    p = _problem(name, seed)
+    model = CoordinationModel(p)
+    members = list(range(p.n))
+    s0 = tuple(int(v) for v in p.kinematics.flat_index(p.start))
+    S = model.system(members, p.start, init=p.start)
+    for bound in (0, 1, 2):
+        region = model.displaced_at_most(members, p.start, bound)
+        assert model.ctx.count(region & S.invariant, S.variables) == sum(
+            math.comb(p.n, k) * (p.kinematics.n_positions - 1) ** k for k in range(bound + 1))
+        R = S.restricted(region)
+        res = search(R, model.ctx.false, mode="forward")
+        naive = reachable_naive(p, members, p.start,
+                                keep=lambda t: sum(a != b for a, b in zip(t, s0)) <= bound)
+        assert model.ctx.count(res.closed, S.variables) == len(naive)
+    assert len(naive) < len(reachable_naive(p, members, p.start)) or p.n <= 2

@@ -36,7 +36,8 @@ from supcoord.testing.oracle.bfs import MAX_STEP_KINDS
 from supcoord.testing.oracle.cases import tight_problem
 
 #: what the comparison must reach
-KINDS = ("feasible", "infeasible", "whole component solved", "grown window solved", "descent moved",
+KINDS = ("feasible", "infeasible", "whole component solved", "grown window solved", "few-displaced window solved",
+         "descent moved",
          "descent then windows", "window cap hit", "certificate: conflict component",
          "certificate: relaxed subproblem", "certificate: no blocker")
 

@@ -140,7 +140,7 @@ def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: 
 
 def _compatible(T: _Lookups, c: np.ndarray, chosen: dict[int, list], p: int, mp: list, tol: float) -> bool:
     problem = T.problem
-    if len(mp) > 1:  # several joints at once: the robot's own constraints (obstacles, held)
+    if len(mp) > 1 or not T.adj[p]:  # several joints at once, or no neighbour table holds them: its own constraints
         dp = np.zeros(T.kin.n_joints, dtype=np.int64)
         for jj, d in mp:
             dp[jj] = d

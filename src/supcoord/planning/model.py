@@ -33,7 +33,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Iterable, Sequence
 
 import numpy as np
@@ -140,12 +140,16 @@ class CoordinationModel:
         return g
 
     def frozen_guard(self, p: int, m: int, outside: tuple[tuple[int, int, int], ...]) -> BDD:
-        """``⋀_q ¬B_{p,m}(x_p, c_q)`` over frozen neighbours ``(k, side, c_q)``: the rows
-        OR-ed in numpy, then one BDD (cached per ``(p, m, outside)``)."""
+        """``¬V_{p,m}(x_p) ∧ ⋀_q ¬B_{p,m}(x_p, c_q)`` over frozen neighbours ``(k, side, c_q)``,
+        with ``V_p`` the moves ``p``'s own constraints refuse (obstacles, joint rules, held:
+        :meth:`Problem.unary`): the rows OR-ed in numpy, then one BDD (cached per
+        ``(p, m, outside)``).  The pair tables fold ``V_p`` in too, but a window without
+        ``p``'s neighbours (the relaxed one, or a robot with none) must not lose it."""
         key = (p, m, outside)
         g = self._unary_guard.get(key)
         if g is None:
-            blocked = np.zeros(self.kin.n_positions, dtype=bool)
+            own = self.problem.unary().get(p)
+            blocked = np.zeros(self.kin.n_positions, dtype=bool) if own is None else own[1][m].copy()
             for k, side, cq in outside:
                 blocked |= blocked_table(self.problem, k, side)[m][:, cq]
             g = table_bdd(self.ctx, ~blocked.reshape(self._shape()), var_names(self.problem, p))
@@ -199,6 +203,20 @@ class CoordinationModel:
         variables.sort(key=level.__getitem__)
         return GuardedSystem(self, members, tuple(variables), moves, self.state(members, init) & inv,
                              self.state(members, target) & inv, inv, merged)
+
+    def displaced_at_most(self, members: Sequence[int], config: np.ndarray, bound: int) -> BDD:
+        """``|{q ∈ members : x_q ≠ config_q}| ≤ bound``: at most ``bound`` of ``members``
+        away from their positions in ``config`` (a threshold function, built by counting
+        member by member: ``f_j`` = exactly ``j`` displaced so far)."""
+        ctx = self.ctx
+        counts = [ctx.true] + [ctx.false] * bound
+        for q in members:
+            away = ~self.state([q], config)
+            counts = [counts[0] & ~away] + [(counts[j] & ~away) | (counts[j - 1] & away) for j in range(1, bound + 1)]
+        out = ctx.false
+        for f in counts:
+            out |= f
+        return out
 
     def enabled_step(self, p: int, m: int) -> BDD:
         """``∃x'. step``: the positions from which the move exists (not past a hard stop)."""
@@ -267,6 +285,13 @@ class GuardedSystem:
                     rel.append(g)
             self._relations[event] = rel
         return rel
+
+    def restricted(self, region: BDD) -> "GuardedSystem":
+        """The same moves inside ``invariant ∧ region``: a subgraph of the configuration graph
+        (every path of it is a path of ``self``; the converse does not hold, so a search of it
+        that fails proves nothing).  Relations are shared."""
+        return replace(self, init=self.init & region, marked=self.marked & region,
+                       invariant=self.invariant & region, _relations=self._relations)
 
     def prime(self, x: BDD, var: str) -> BDD:
         """``X[x_v := x'_v] = ∃x_v. X ∧ I_v`` with ``I_v = (x_v ↔ x'_v)``: an AndAbstract costs

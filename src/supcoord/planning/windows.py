@@ -17,6 +17,8 @@ Algorithm (``c := start``)::
             for each unfinished p, by priority:                 (a "round")
                 S := {p}
                 loop:                                           (grow)
+                    search C(S, c) inside "at most b members other than p away from
+                      c" for b = 1, 2 (a subgraph: its path is a plan; none proves nothing)
                     search C(S, c) from c and from D(S)          (.search, bidirectional)
                     if it connects them: append a shortest witness, c := its end; next p
                     if S = K (p's component):  infeasible, certificate K
@@ -110,6 +112,9 @@ LEVELS: tuple[int | None, ...] = (20_000, 200_000, 2_000_000, None)
 #: components with at most this many configurations are solved by one exact window
 #: (shortest single-move plan) instead of descent + windows
 SMALL_COMPONENT = 100_000
+#: before a window's full search, plans with at most this many members (other than the
+#: positioner being finished) away from their place at once are searched, in turn
+DISPLACED: tuple[int, ...] = (1, 2)
 
 
 @dataclass
@@ -157,6 +162,10 @@ class _Windows:
             finished = [q for q in members if q == p or done[q]]
             goal = wm.state(finished, problem.target) & S.invariant  # D(S)
             self._count(members)
+            bounded = self._few_displaced(wm, S, goal, p, members, c, cap)
+            if bounded is not None:
+                self._note_nodes(wm)
+                return _Outcome("solved", moves=bounded, members=members)
             try:
                 res = search(S, goal, max_nodes=cap)
             except WindowBudget:
@@ -196,6 +205,33 @@ class _Windows:
                                         "positioner restricts them")
             self._note_nodes(wm)
             members = sorted(set(members) | set(found))
+
+    def _few_displaced(self, wm: CoordinationModel, S: Any, goal: Any, p: int, members: list[int], c: np.ndarray,
+                       cap: int | None) -> list[Move] | None:
+        """A plan of ``C(S, c)`` in which at most ``b`` members other than ``p`` are away from
+        their place in ``c`` at any time, for ``b`` in :data:`DISPLACED` (None: none found).
+
+        Robots step aside one or two at a time: a search inside that subgraph stays small
+        where the whole window's does not (the last robot of SDSS-V's APO wok, seed 1,
+        fold: 2 s against 60 s for 17 members).  A failure proves nothing, so the full
+        search follows."""
+        others = [q for q in members if q != p]
+        if not others:
+            return None
+        for bound in DISPLACED:
+            if bound >= len(others):
+                return None
+            R = S.restricted(wm.displaced_at_most(others, c, bound))
+            try:
+                res = search(R, goal & R.invariant, max_nodes=cap)
+            except WindowBudget:
+                return None
+            if res.distance is not None:
+                self.stats["windows_few_displaced"] = self.stats.get("windows_few_displaced", 0) + 1
+                key = str(len(members))
+                self.stats["window_sizes"][key] = self.stats["window_sizes"].get(key, 0) + 1
+                return shortest_moves(R, res, c)
+        return None
 
     def whole(self, comp: list[int], c: np.ndarray) -> _Outcome:
         """One exact window over a whole conflict component (point 4 of the module docstring)."""

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import itertools
 from collections import deque
+from typing import Callable
 
 import numpy as np
 
@@ -183,10 +184,11 @@ def optimal_makespan_naive(problem: Problem) -> int | None:
 
 
 def reachable_naive(problem: Problem, members: list[int], c: np.ndarray,
-                    frozen: bool = True) -> set[tuple[int, ...]]:
+                    frozen: bool = True, keep: Callable[[tuple[int, ...]], bool] | None = None) -> set[tuple[int, ...]]:
     """Configurations of ``members`` (flat positions, in ``members`` order) reachable from
     ``c`` by single moves of the members, the others frozen at ``c`` (``frozen``) or
-    removed — the explicit twin of a window's ``Reach(q0)``."""
+    removed — the explicit twin of a window's ``Reach(q0)``; with ``keep``, only through
+    configurations it accepts (the twin of a restricted system)."""
     kin = problem.kinematics
     total = kin.n_positions ** len(members)
     if total > MAX_NAIVE_STATES:
@@ -219,7 +221,7 @@ def reachable_naive(problem: Problem, members: list[int], c: np.ndarray,
                         break
                 if ok:
                     t = s[:a] + (int(kin.flat_index(nxt)),) + s[a + 1:]
-                    if t not in seen:
+                    if t not in seen and (keep is None or keep(t)):
                         seen.add(t)
                         queue.append(t)
     return seen
