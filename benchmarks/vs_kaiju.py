@@ -156,11 +156,13 @@ def supcoord_row(args, inst, direction, work) -> tuple[dict, dict]:
     timeout = args.timeout_apo if inst["grid"] == "apo" else args.timeout
     cmd = ["nice", args.supcoord, "solve", prob_path, "--out", plan_path, "--speed", str(SPEED),
            "--json", "-q", "--timeout", str(timeout), "--max-memory", args.max_memory]
+    if args.improve is not None:
+        cmd += ["--improve", str(args.improve)]
     print(f"[{time.strftime('%H:%M:%S')}] supcoord {tag} steps {steps_tag}", file=sys.stderr, flush=True)
     res = run_child(cmd, base + ".solve.out", base + ".solve.err", timeout + 300)
     out = load_json(base + ".solve.out") or {}
     status = out.get("status")
-    row = {"planner": "supcoord", "steps": steps_tag, "timeout_s": timeout, "rc": res["rc"],
+    row = {"planner": "supcoord", "steps": steps_tag, "improve": args.improve, "timeout_s": timeout, "rc": res["rc"],
            "status": status, "cpu_s": res["cpu_s"], "wall_s": res["wall_s"],
            "peak_rss_mb": res["peak_rss_mb"], "command": shlex.join(cmd)}
     raw = {"solve": {k: v for k, v in out.items() if k in ("status", "makespan", "lower_bound", "reason",
@@ -381,6 +383,8 @@ def main(argv=None) -> None:
     ap.add_argument("--timeout-apo", type=float, default=600, help="supcoord solve timeout on apo, s")
     ap.add_argument("--max-memory", default="8G")
     ap.add_argument("--steps", default=None, help="alpha_steps x beta_steps, e.g. 13x7 (default 37x19)")
+    ap.add_argument("--improve", type=int, default=None,
+                    help="supcoord solve --improve N (default: supcoord's own default)")
     ap.add_argument("--reuse", default=None, help="directory of kaiju_side.py plan results to reuse")
     ap.add_argument("--kaiju-python", default=os.environ.get("KAIJU_PYTHON", "kaiju-venv/bin/python"),
                     help="the Python of a venv with kaiju (default: $KAIJU_PYTHON)")

@@ -40,6 +40,7 @@ from .instrument import instrument_setup
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
                      _unknown_fields)
 from .targets import parse_offline, parse_positions, robot_lattices, with_angles
+from .unlock import unlock_lattices
 
 __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
            "KNOWN_FIELDS"]
@@ -153,20 +154,27 @@ class Problem:
         if self._unary is None:
             out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
             for p in range(self.n):
-                kin = self.kin(p)
-                parts = []
-                if len(self.obstacles):
-                    t = unary_tables(kin, self.bases[p], float(self.buffers[p]), self.obstacles, self.obstacle_buffers)
-                    if t is not None:
-                        parts.append(t)
-                if p in self.joint_rules:
-                    parts.append(rule_tables(kin, *self.joint_rules[p]))
-                if p in self.held:
-                    parts.append(held_tables(kin, self.held[p]))
-                if parts:
-                    out[p] = (np.logical_or.reduce([u for u, _ in parts]), np.logical_or.reduce([v for _, v in parts]))
+                t = self.own_tables(p, self.kin(p))
+                if t is not None:
+                    out[p] = t
             self._unary = out
         return self._unary
+
+    def own_tables(self, p: int, kin: Kinematics) -> tuple[np.ndarray, np.ndarray] | None:
+        """Robot ``p``'s :meth:`unary` tables ``(U, V)`` were its kinematics ``kin`` (None: it
+        has no obstacle near, no joint rule and is not held)."""
+        parts = []
+        if len(self.obstacles):
+            t = unary_tables(kin, self.bases[p], float(self.buffers[p]), self.obstacles, self.obstacle_buffers)
+            if t is not None:
+                parts.append(t)
+        if p in self.joint_rules:
+            parts.append(rule_tables(kin, *self.joint_rules[p]))
+        if p in self.held:
+            parts.append(held_tables(kin, self.held[p]))
+        if not parts:
+            return None
+        return np.logical_or.reduce([u for u, _ in parts]), np.logical_or.reduce([v for _, v in parts])
 
     def own_motion_blocked(self, p: int, q0: Any, delta: Any, tol: float | None = None) -> np.ndarray:
         """Is robot ``p``'s motion ``q0 + t·delta`` (``(E, J)``, several joints at once) refused
@@ -329,6 +337,8 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
                       obstacles=obstacles, obstacle_buffers=obstacle_buffers + margin / 2,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
                       joint_rules=setup.joint_rules if setup else {})
+    unlock_lattices(problem)  # robots their obstacles would lock in on a coarse lattice
+    start, target = problem.start, problem.target
     if check_collisions:
         for name, conf in (("start", start), ("target", target)):
             hits = problem.collisions(conf)
