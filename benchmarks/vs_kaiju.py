@@ -34,7 +34,9 @@ Problem built for supcoord:
 * apo: ``{"kind": "instrument", "name": "sdss-v-apo"}`` (kaiju's geometry, fiducials, GFAs
   and fiducial rule built in; robots in positionerTable row order = the instance's order).
 * ``collision.margin`` = kaiju's maxDisplacement at its 0.1 deg step (0.0782 mm): kaiju
-  flags two robots closer than 4.0 + 0.0782 mm, so supcoord is asked to keep that distance.
+  flags two robots closer than 4.0 + 0.0782 mm, so supcoord is asked to keep that distance;
+  ``obstacle_margin`` 0 on the wok (kaiju flags a robot closer than 5.0 mm to a fiducial or
+  GFA, with no step margin: its own targets may lie 5.001 mm from a fiducial).
 * steps: ``--steps AxB`` sets ``alpha_steps`` x ``beta_steps`` (default 37x19 = 10 deg steps,
   the instrument's default); starts/targets are exact angles (``alpha_beta_deg``).
 
@@ -97,7 +99,7 @@ def build_problem(inst: dict, direction: str, steps: tuple[int, int] | None) -> 
                 "collision": {"buffer": 2.0, "margin": MARGIN}}
     elif inst["grid"] == "apo":
         prob = {"layout": {"kind": "instrument", "name": "sdss-v-apo"},
-                "collision": {"margin": MARGIN}}
+                "collision": {"margin": MARGIN, "obstacle_margin": 0.0}}
         if kin:
             prob["kinematics"] = kin
     else:

@@ -149,3 +149,18 @@ def test_instrument_errors_name_field_and_value():
     bad = dict(base, start={"alpha_beta_deg": [[0.0, 0.0]] * 500})
     with pytest.raises(InputError, match=r"w.json: start"):
         parse_problem({"layout": {"kind": "instrument", "name": "sdss-v-apo"}, **bad}, "w.json")
+
+
+def test_the_obstacle_margin_can_differ_from_the_robots_margin():
+    # robot 0's beta tip at (22.4, 0) mm; an obstacle 5.05 mm above it: clear by 0.05 mm of 1 + 4
+    obstacle = [{"xy": [22.4, 5.05], "buffer": 4.0}]
+    start, target = [[0.0, 0.0], [0.0, 180.0]], [[0.0, 0.0], [90.0, 180.0]]
+    with pytest.raises(InputError, match="obstacle 0"):
+        _two(obstacle, start, target, collision={"buffer": 1.0, "margin": 0.1})  # the margin applies to both
+    p = _two(obstacle, start, target, collision={"buffer": 1.0, "margin": 0.1, "obstacle_margin": 0.0})
+    assert p.to_json()["collision"] == {"buffer": 1.0, "margin": 0.1, "obstacle_margin": 0.0}
+    q = parse_problem(p.to_json())
+    assert np.allclose(q.buffers, p.buffers) and np.allclose(q.obstacle_buffers, p.obstacle_buffers)
+    assert np.allclose(p.buffers[0] + p.obstacle_buffers[0], 5.0) and np.allclose(p.buffers.sum(), 2.1)
+    with pytest.raises(InputError, match="obstacle_margin"):
+        _two(obstacle, start, target, collision={"buffer": 1.0, "obstacle_margin": -1})

@@ -250,7 +250,7 @@ def test_unknown_fields_are_warnings_naming_the_field():
         "w.json: unknown field 'prority' ignored (known: layout, kinematics, collision, start, target, priority, offline, "
         "name, description, comment, preset, seed)",
         "w.json: unknown field 'kinematics.arms' ignored (known: kind, arm, steps)",
-        "w.json: unknown field 'collision.buffers' ignored (known: buffer, margin)",
+        "w.json: unknown field 'collision.buffers' ignored (known: buffer, margin, obstacle_margin)",
     ]
     assert parse_problem(copy.deepcopy(ALPHA_BETA)).warnings == []
 

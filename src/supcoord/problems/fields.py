@@ -30,7 +30,7 @@ KNOWN_FIELDS = {
     "layout/instrument": LAYOUT_FIELDS,
     "kinematics/rotary": ("kind", "arm", "steps"),
     "kinematics/alpha-beta": ("kind", "alpha", "beta", "alpha_steps", "beta_steps", "beta_range", "alpha_range"),
-    "collision": ("buffer", "margin"),
+    "collision": ("buffer", "margin", "obstacle_margin"),
 }
 
 
@@ -98,11 +98,12 @@ def _buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
     return np.broadcast_to(np.asarray(values, float), (n,)).copy()
 
 
-def _margin(spec: Any, where: str | None) -> float:
-    """``collision.margin`` (mm, default 0): clearance asked for on top of the buffers."""
-    m = spec.get("margin", 0.0) if isinstance(spec, dict) else 0.0
+def _margin(spec: Any, where: str | None, name: str = "margin", default: float = 0.0) -> float:
+    """``collision.margin`` (mm, default 0): clearance asked for on top of the buffers;
+    ``name="obstacle_margin"``: the same between robots and fixed obstacles (default: ``margin``)."""
+    m = spec.get(name, default) if isinstance(spec, dict) else default
     if not _finite_number(m) or not 0 <= m <= 1e6:
-        raise InputError(f"collision.margin must be a number of mm in [0, 1e6], got {_short(m)}", value=m, where=where)
+        raise InputError(f"collision.{name} must be a number of mm in [0, 1e6], got {_short(m)}", value=m, where=where)
     return float(m)
 
 

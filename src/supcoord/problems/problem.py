@@ -75,6 +75,9 @@ class Problem:
     #: the clearance margin (mm) the user asked for on top of the buffers: every pair needs
     #: ``dist ≥ r_a + r_b + margin``, folded into :attr:`buffers` (each grown by ``margin/2``)
     margin: float = 0.0
+    #: the margin between robots and fixed obstacles (None: ``margin``), folded into
+    #: :attr:`obstacle_buffers` (each grown by ``obstacle_margin − margin/2``)
+    obstacle_margin: float | None = None
     #: robots held in place (offline): robot → its position; they never move
     held: dict[int, tuple[int, ...]] = field(default_factory=dict, repr=False)
     #: joint-space rules of the instrument: robot → ``(c0, c1)``, positions with commanded
@@ -211,6 +214,8 @@ class Problem:
         collision: dict[str, Any] = {"buffer": buffer}
         if self.margin:
             collision["margin"] = self.margin
+        if self.obstacle_margin is not None and self.obstacle_margin != self.margin:
+            collision["obstacle_margin"] = self.obstacle_margin
         out = dict(self.extra)
         kinematics = self.kinematics.to_json()
         if self.layout.get("kind") == "instrument":  # the arms are the instrument's, measured per robot
@@ -306,6 +311,7 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
         collision = dict(collision, buffer=setup.buffer)
     buffers = _buffers(collision, n, where)
     margin = _margin(collision, where)
+    obstacle_margin = _margin(collision, where, "obstacle_margin", margin)
     start = parse_positions(data["start"], "start", n, kin, bases, where, base_kins)
     target = parse_positions(data["target"], "target", n, kin, bases, where, base_kins)
     held = parse_offline(data.get("offline"), n, kin, where, base_kins)
@@ -334,7 +340,8 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
     extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
     problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
                       _unknown_fields(data, where), robot_kinematics=robot_kins, margin=margin,
-                      obstacles=obstacles, obstacle_buffers=obstacle_buffers + margin / 2,
+                      obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
+                      obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
                       joint_rules=setup.joint_rules if setup else {})
     unlock_lattices(problem)  # robots their obstacles would lock in on a coarse lattice
