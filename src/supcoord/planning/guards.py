@@ -160,7 +160,13 @@ def table_bdd(ctx: Context, table: np.ndarray, names: Sequence[str]) -> BDD:
         pairs = ids.reshape(-1, 2)
         base = len(nodes)
         keys = pairs[:, 0] * base + pairs[:, 1]  # one integer per (low, high)
-        uniq, inverse = np.unique(keys, return_inverse=True)
+        if base * base <= max(1 << 16, 4 * len(keys)):  # few keys possible: mark them (no sort)
+            present = np.zeros(base * base, dtype=bool)
+            present[keys] = True
+            uniq = np.flatnonzero(present)
+            inverse = (np.cumsum(present) - 1)[keys]
+        else:
+            uniq, inverse = np.unique(keys, return_inverse=True)
         v = ctx.bdd.var(b)
         new_ids = []
         for key in uniq.tolist():
