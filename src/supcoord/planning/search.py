@@ -99,14 +99,16 @@ class Search:
 def image(S: GuardedSystem, x: BDD) -> BDD:
     """``Img(X) = ⋃_σ Pre_σ(X) = Post(X)`` (module docstring: the graph is undirected)."""
     ctx = S.model.ctx
-    out = ctx.false
+    parts = []
     primed: dict[str, BDD] = {}
     for e, mv in S.moves.items():
         xp = primed.get(mv.var)
         if xp is None:  # X[x_v := x'_v], once per written variable (v and w share it)
             xp = primed[mv.var] = S.prime(x, mv.var)
-        out |= S.pre(x, e, primed=xp)
-    return out
+        parts.append(S.pre(x, e, primed=xp))
+    while len(parts) > 1:  # a balanced union: operands of like size, not one growing accumulator
+        parts = [parts[i] | parts[i + 1] if i + 1 < len(parts) else parts[i] for i in range(0, len(parts), 2)]
+    return parts[0] if parts else ctx.false
 
 
 def _least_meeting(ctx: Any, frontier: BDD, other: list[BDD]) -> int | None:
