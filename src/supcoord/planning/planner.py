@@ -129,12 +129,15 @@ SIMULTANEOUS_TABLE = 20_000_000
 def _reason(problem: Problem, members: Sequence[int], how: str, simultaneous: dict[str, Any]) -> str:
     """The reason of an infeasible verdict: the certificate, and the motion model it holds for."""
     ids = ", ".join(str(p) for p in sorted(members))
-    head = f"positioners {ids} cannot all reach their targets even with every other positioner removed ({how})"
+    lattice = " × ".join(str(s) for s in problem.kinematics.shape)
+    head = (f"positioners {ids} cannot all reach their targets even with every other positioner removed ({how}), "
+            f"moving between the {lattice} positions of their joints' lattices (a finer lattice, "
+            f"kinematics steps, may hold a plan)")
     if simultaneous["model"] == "simultaneous":
-        return (f"{head}; no plan exists for the whole problem, even with several joints and positioners moving "
-                f"at once (every joint -1, 0 or +1 position per step: {simultaneous['how']})")
-    return (f"{head}; no plan exists for the whole problem in which one joint moves at a time (the single-move "
-            f"model); moves of several joints at once: {simultaneous['how']}")
+        return (f"{head}; no plan exists for the whole problem on these lattices, even with several joints and "
+                f"positioners moving at once (every joint -1, 0 or +1 position per step: {simultaneous['how']})")
+    return (f"{head}; no plan exists for the whole problem on these lattices in which one joint moves at a time "
+            f"(the single-move model); moves of several joints at once: {simultaneous['how']}")
 
 
 def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budget) -> dict[str, Any]:
