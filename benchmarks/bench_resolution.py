@@ -89,7 +89,9 @@ def main() -> None:
              f"Command: `{header['command']}`; supcoord {header['code']}.", "",
              f"Machine: {header['machine']}; load {load_before} before, {header['load_after']} after; {header['date']}. "
              "Each case in a fresh process, `solve(problem, improve=0)`; the variant is `windows.DISPLACED` "
-             "(default: (1, 2); none: no few-displaced searches).", "",
+             "(default: (1, 2); none: no few-displaced searches)"
+             + (f"; timed under cProfile (--profile {args.profile}), which slows every case." if args.profile else ".")
+             , "",
              "| positions | variant | answer | wall s | CPU s | peak RSS MB | windows | few-displaced | abandoned | "
              "largest | BDD nodes |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
