@@ -98,7 +98,7 @@ def main() -> None:
         rows.append(row)
         print(json.dumps(row), flush=True)
     out = Path(args.out)
-    head = [f"# Time and memory with the number of robots (`bench_scale.py`)", "",
+    head = ["# Time and memory with the number of robots (`bench_scale.py`)", "",
             f"Command: `python benchmarks/bench_scale.py {' '.join(sys.argv[1:])}`; supcoord {code_version()}.", "",
             f"Machine: {machine()}, {cpu_model()}; load (1 min) {load_before} before, {load()} after; "
             f"{started}. Each case in a fresh process: `solve(preset_problem(name, rings, seed={args.seed}, "
