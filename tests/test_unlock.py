@@ -45,6 +45,9 @@ def test_a_robot_boxed_in_by_a_fiducial_gets_a_way_out():
     kin = p.kin(386)
     assert np.allclose(kin.joint_angles_deg(p.start[386]), BOXED, atol=0)  # exact start kept
     assert alone_reachable(kin, p.unary()[386], p.start[386], p.target[386])
+    again = parse_problem(p.to_json())  # the lattice is a function of the problem: check reads plans on it
+    assert all(np.array_equal(again.kin(386).lattice_deg(j), kin.lattice_deg(j)) for j in (0, 1))
+    assert np.array_equal(again.start, p.start) and np.array_equal(again.target, p.target)
     plan = supcoord.solve(p, improve=0)
     assert plan.status == "complete"
     assert supcoord.validate_plan(p, plan)["valid"]
@@ -67,3 +70,20 @@ def test_robots_that_are_free_keep_their_lattices(monkeypatch):
     plain = parse_problem(data)
     assert all(np.array_equal(a.lattice_deg(j), b.lattice_deg(j))
                for a, b in zip(p.robot_kinematics, plain.robot_kinematics) for j in (0, 1))
+
+
+def test_solve_warns_and_check_reads_the_plan_on_the_same_lattices(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    problem, plan = tmp_path / "p.json", tmp_path / "plan.json"
+    problem.write_text(json.dumps(_apo_one_robot_out()))
+    solved = subprocess.run([sys.executable, "-m", "supcoord.cli", "solve", str(problem), "--out", str(plan),
+                             "--improve", "0"], capture_output=True, text=True, timeout=150)
+    assert solved.returncode == 0, solved.stderr
+    assert "robot 386: its obstacles leave it no path on its lattice" in solved.stderr
+    checked = subprocess.run([sys.executable, "-m", "supcoord.cli", "check", str(problem), str(plan), "--json"],
+                             capture_output=True, text=True, timeout=150)
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+    assert json.loads(checked.stdout)["valid"] is True
