@@ -278,6 +278,9 @@ class GuardedSystem:
             mv = self.moves[event]
             rel = [mv.step]
             for g in mv.guards:
+                if len(g) > CLUSTER_NODES or len(rel[-1]) > CLUSTER_NODES:
+                    rel.append(g)  # a conjunct this big would only be computed to be thrown away
+                    continue
                 merged = rel[-1] & g
                 if len(merged) <= CLUSTER_NODES:
                     rel[-1] = merged
