@@ -14,7 +14,7 @@ import pytest
 import supcoord
 from supcoord.problems import problem as problem_module
 from supcoord.problems.problem import parse_problem
-from supcoord.problems.unlock import alone_reachable, lattice_holding
+from supcoord.problems.unlock import alone_reachable, corner_angles, lattice_holding
 
 pytestmark = pytest.mark.timeout(180)
 
@@ -87,3 +87,22 @@ def test_solve_warns_and_check_reads_the_plan_on_the_same_lattices(tmp_path):
                              capture_output=True, text=True, timeout=150)
     assert checked.returncode == 0, checked.stdout + checked.stderr
     assert json.loads(checked.stdout)["valid"] is True
+
+
+@pytest.mark.parametrize("beta_range", [(0.0, 180.0), (0.0, 10.0), (90.0, 91.0)])
+def test_the_fine_lattice_fits_the_table_limit_whatever_the_ranges(beta_range):
+    from supcoord.geometry.alpha_beta import AlphaBeta
+    from supcoord.geometry.joint_space import MAX_POSITIONS
+    from supcoord.problems.unlock import _fine_kinematics
+
+    lo, hi = beta_range
+    kin = AlphaBeta(7.4, 15.0, 13, 7, beta_range, alpha_range=(0.0, 360.0))
+    fine = _fine_kinematics(kin, [(8.1, lo + 0.3 * (hi - lo)), (10.0, hi)])
+    assert fine.n_positions <= MAX_POSITIONS
+    assert 8.1 in fine.lattice_deg(0).tolist() and hi in fine.lattice_deg(1).tolist()
+
+
+def test_corner_angles_are_the_fixed_joint_of_each_segment():
+    # α 8 -> 3 at β 31, β 31 -> 170 at α 3, α 3 -> 10 at β 170
+    corners = [(8.0, 31.0), (3.0, 31.0), (3.0, 170.0), (10.0, 170.0)]
+    assert corner_angles(corners) == [[3.0], [31.0, 170.0]]

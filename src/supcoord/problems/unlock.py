@@ -34,8 +34,9 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from ..geometry.alpha_beta import AlphaBeta
+from ..geometry.joint_space import MAX_POSITIONS
 
-__all__ = ["unlock_lattices", "lattice_holding", "alone_reachable", "FINE_POSITIONS"]
+__all__ = ["unlock_lattices", "lattice_holding", "alone_reachable", "corner_angles", "FINE_POSITIONS"]
 
 #: positions of the fine lattice a locked-in robot's path is searched on (one robot's
 #: obstacle tables only: a few milliseconds)
@@ -78,10 +79,15 @@ def _fine_kinematics(kin: AlphaBeta, exact: list[tuple[float, float]]) -> AlphaB
     the angles ``exact``."""
     a_lo, a_hi = kin.alpha_range if kin.alpha_range is not None else (0.0, 360.0)
     b_lo, b_hi = kin.beta_range
+    spans = (a_lo, a_hi), (b_lo, b_hi)
     h = math.sqrt((a_hi - a_lo) * (b_hi - b_lo) / FINE_POSITIONS)
+    counts = [max(2, int(round((hi - lo) / h)) + 1) for lo, hi in spans]
+    extra = len(exact)  # the exact angles may each add a position per joint
+    while (counts[0] + extra) * (counts[1] + extra) > MAX_POSITIONS:  # a very uneven pair of ranges
+        big = int(counts[1] > counts[0])
+        counts[big] = max(2, counts[big] * 9 // 10)
     tables = []
-    for j, (lo, hi) in enumerate(((a_lo, a_hi), (b_lo, b_hi))):
-        n = max(2, int(round((hi - lo) / h)) + 1)
+    for j, ((lo, hi), n) in enumerate(zip(spans, counts)):
         top = hi if j == 1 or kin.alpha_range is not None else hi - (hi - lo) / n  # a wrapping α: one turn
         grid = np.linspace(lo, top, n)
         tables.append(np.unique(np.concatenate([grid, [e[j] for e in exact]])))
@@ -118,6 +124,16 @@ def _fewest_turns(kin: AlphaBeta, tables: tuple[np.ndarray, np.ndarray], start: 
             corners.append(tuple(float(v) for v in angles[i]))
     corners.append(tuple(float(v) for v in angles[-1]))
     return [c for i, c in enumerate(corners) if i == 0 or c != corners[i - 1]]
+
+
+def corner_angles(corners: list[tuple[float, float]]) -> list[list[float]]:
+    """``[α values, β values]`` a lattice must hold for the single-joint path through
+    ``corners`` to be one of its paths: the α at which β moves and the β at which α moves."""
+    need: list[list[float]] = [[], []]
+    for a, b in zip(corners, corners[1:]):
+        moving = 0 if a[0] != b[0] else 1
+        need[1 - moving].append(a[1 - moving])
+    return need
 
 
 def _slots(kin: AlphaBeta, angles: tuple[float, float]) -> np.ndarray:
@@ -171,11 +187,7 @@ def unlock_lattices(problem: Any) -> list[int]:
         corners = _fewest_turns(fine, fine_tables, s_fine, t_fine)
         if corners is None:
             continue  # locked in for real (at the fine lattice too): the planner's certificate says so
-        # α where β moves, β where α moves (and the ends): the values the new lattice must hold
-        need: list[list[float]] = [[], []]
-        for a, b in zip(corners, corners[1:]):
-            moving = 0 if a[0] != b[0] else 1
-            need[1 - moving].append(a[1 - moving])
+        need = corner_angles(corners)
         wraps = kin.alpha_range is None
         tabs = [lattice_holding(kin.lattice_deg(j), need[j], [start[j], target[j]], wraps and j == 0) for j in (0, 1)]
         if tabs[0] is None or tabs[1] is None:
