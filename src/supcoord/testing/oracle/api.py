@@ -149,11 +149,12 @@ def oracle_check_moves(problem_json: Any, moves: Sequence[tuple[int, int, int]],
     """Single moves ``(positioner, joint, ±1)`` replayed from the start: ``None`` if each is
     certified free and they end at the target, else the index of the first bad one
     (``len(moves)``: they end elsewhere)."""
-    return _space(problem_json, members).check_moves([tuple(int(v) for v in m) for m in moves])
+    space = Space(OracleProblem.from_json(problem_json), members, replay_only=True)
+    return space.check_moves([tuple(int(v) for v in m) for m in moves])
 
 
 def oracle_check_steps(problem_json: Any, configurations: Sequence[Any]) -> int | None:
     """A schedule of configurations (``(N, J)`` joint indices) under the simultaneous
     semantics: ``None`` if it runs start → target with every step certified free, else the
     index ``k`` of the first bad step ``k → k + 1`` (``len``: wrong ends)."""
-    return _space(problem_json, None).check_steps(list(configurations))
+    return Space(OracleProblem.from_json(problem_json), None, replay_only=True).check_steps(list(configurations))

@@ -67,7 +67,7 @@ class Space:
     """The configurations of ``members`` of a problem and their tables (module docstring)."""
 
     def __init__(self, prob: OracleProblem, members: list[int] | None = None,
-                 cache: dict | None = None):
+                 cache: dict | None = None, replay_only: bool = False):
         self.prob = prob
         self.members = list(range(prob.n)) if members is None else sorted({int(p) for p in members})
         if not self.members or not all(0 <= p < prob.n for p in self.members):
@@ -75,7 +75,7 @@ class Space:
         arm = prob.arm
         self.n, self.k = arm.n_positions, len(self.members)
         self.total = self.n ** self.k
-        if self.total > MAX_CONFIGURATIONS:
+        if self.total > MAX_CONFIGURATIONS and not replay_only:  # replaying a plan needs only the pair tables
             raise OracleInputError(f"explicit search over {self.total} configurations exceeds {MAX_CONFIGURATIONS}",
                                    value=self.total)
         self.weight = np.array([self.n ** (self.k - 1 - a) for a in range(self.k)], dtype=np.int64)
