@@ -402,13 +402,19 @@ def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, 
 
 @pytest.mark.parametrize("pitch,seed", [(17.0, 6), (17.0, 8), (14.0, 6), (14.0, 11)])
 def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
+    """On the problem's own lattice (``refine=False``: both routes decide that model); a plan
+    the local route then finds on a finer lattice is valid."""
     p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, AB, 2.0, seed=seed)
-    local = solve(p)
-    mono = solve(p, route="monolithic", supervisor=False)
+    local = solve(p, refine=False)
+    mono = solve(p, route="monolithic", supervisor=False, refine=False)
     assert local.status == mono.status
     for plan in (local, mono):
         if plan.status == "complete":
             assert validate_plan(p, plan)["valid"]
+    refined = solve(p)
+    assert refined.status == local.status or (refined.status == "complete" and refined.lattice is not None)
+    if refined.status == "complete":
+        assert validate_plan(p, refined)["valid"]
 
 
 @pytest.mark.parametrize("layout,kin,seed,verdict", [

@@ -59,6 +59,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--single-move-only", action="store_true",
                    help="answer infeasible as soon as no plan moves one joint at a time (default: then search "
                         "plans with several joints and positioners moving at once before answering)")
+    p.add_argument("--no-refine", action="store_true",
+                   help="answer with the lattice's single-move certificate (default: where its positioners alone "
+                        "could move several joints at once, solve once more on a lattice with steps 2/3 as long)")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -120,7 +123,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     for warning in problem.warnings:
         console.warn(warning)
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
-                 progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only)
+                 progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only,
+                 refine=not args.no_refine)
     if args.out:
         plan.dump(args.out, problem)
     if csv is not None and plan.trajectories is not None:
@@ -139,6 +143,9 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
                    "simultaneous moves (no single-move plan exists), ")
                 + f"{s.get('windows')} symbolic solve(s), "
                 f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
+        if plan.lattice is not None:
+            text += (f"\nplanned on the finer {' × '.join(map(str, plan.lattice))} lattice (the problem's has only a "
+                     f"single-move certificate, positioners {', '.join(map(str, s['refined']['certificate']))})")
         if plan.motion_time_s is not None:
             text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"
     else:

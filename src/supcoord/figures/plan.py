@@ -29,6 +29,7 @@ from ..errors import InputError
 from ..outputs import atomic_output
 from ..problems.plan import Plan
 from ..problems.problem import Problem
+from ..problems.refine import at_lattice
 from .problem import (
     COLORS,
     FIGURE_SUFFIXES,
@@ -229,6 +230,8 @@ def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dic
                  if cert else f"plan {plan.status}: start and target")
         ax = plot_problem(problem, highlight={p: COLORS["certificate"] for p in cert}, title=title)
         return save_figure(ax.figure, path, tight=False)
+    if plan.lattice is not None and tuple(plan.lattice) != problem.kinematics.shape:
+        problem = at_lattice(problem, plan.lattice)  # planned on a finer lattice (supcoord.problems.refine)
     if suffix == ".gif":
         return save_plan_gif(problem, plan, path)
     if result is not None and result.get("incidents"):

@@ -47,6 +47,7 @@ from ..des.symbolic_ops import allevents
 from ..errors import BudgetExceeded, InputError
 from ..problems.plan import Move, Plan, lower_bound
 from ..problems.problem import Problem
+from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from ..synthesis.supcon import supcon
@@ -165,7 +166,7 @@ def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budge
             return {"model": "simultaneous", "path": None,
                     "how": "an exhaustive symbolic search of the same positioners alone"}
         if problem.n * kin.n_joints > SIMULTANEOUS_JOINTS:
-            return {"model": "single-move", "path": None,
+            return {"model": "single-move", "path": None, "alone": relaxed["makespan"],
                     "how": f"these positioners alone can reach their targets in {relaxed['makespan']} steps; the whole "
                            f"problem ({problem.n} positioners, more than {SIMULTANEOUS_JOINTS} joints) was not searched"}
         whole = optimal_makespan(problem, budget=sub, want_path=True)
@@ -176,6 +177,33 @@ def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budge
     if whole["makespan"] is None:
         return {"model": "simultaneous", "path": None, "how": "an exhaustive symbolic search of the whole problem"}
     return {"model": "simultaneous", "path": whole["path"], "how": "a plan found by the simultaneous search"}
+
+
+def _on_finer_lattice(problem: Problem, verdict: Plan, budget: Budget, options: dict[str, Any]) -> Plan:
+    """``problem`` solved once more on the finer lattice of :func:`~supcoord.problems.refine.finer_steps`
+    after the single-move certificate ``verdict``: its plan (with ``lattice``) if it has one,
+    else ``verdict`` with what the finer lattice gave (which is about that lattice only)."""
+    steps = finer_steps(problem)
+    if steps is None:
+        verdict.stats["refined"] = {"status": "not searched", "why": "no finer lattice within the tables' bound"}
+        return verdict
+    shape = " × ".join(map(str, steps))
+    try:
+        plan = solve(at_lattice(problem, steps), budget=budget, refine=False, **options)
+    except BudgetExceeded as exc:  # the coarse certificate still holds: say what is not known
+        verdict.stats["refined"] = {"lattice": list(steps), "status": "unknown", "why": exc.one_line()}
+        verdict.reason += f"; the finer {shape} lattice was not searched to the end ({exc.one_line()})"
+        return verdict
+    if plan.status == "complete":
+        plan.lattice = steps
+        plan.stats["refined"] = {"lattice": list(steps), "status": "complete", "from": list(problem.kinematics.shape),
+                                 "certificate": verdict.stats["certificate"], "seconds": verdict.stats["seconds"]}
+        plan.stats["seconds"] += verdict.stats["seconds"]  # both lattices' work
+        return plan
+    verdict.stats["refined"] = {"lattice": list(steps), "status": plan.status,
+                                "certificate": plan.stats.get("certificate")}
+    verdict.reason += f"; on the finer {shape} lattice too: {plan.reason}"
+    return verdict
 
 
 def _easier_direction(problem: Problem, model: CoordinationModel,
@@ -207,7 +235,8 @@ def _easier_direction(problem: Problem, model: CoordinationModel,
 def solve(problem: Problem, *, route: str = "local", order: str | None = None, backend: str = "auto",
           budget: Budget | None = None, progress: Callable | None = None, supervisor: bool | None = None,
           validate: bool = True, greedy: bool = True, levels: tuple[int | None, ...] | None = None,
-          improve: int | None = None, speed: float | None = None, simultaneous: bool = True) -> Plan:
+          improve: int | None = None, speed: float | None = None, simultaneous: bool = True,
+          refine: bool = True) -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
 
     ``route``: ``"local"`` or ``"monolithic"``; ``order``: variable order ``"rcm"`` or
@@ -225,7 +254,12 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     −1, 0 or +1 per step, :func:`.optimum.optimal_makespan`): first the certificate's robots
     alone, then the whole problem; a plan found there is returned without ``events`` (no
     single-move sequence exists), and ``stats["certificate_model"]`` says which model an
-    ``infeasible`` verdict holds for (the reason says it in words).  A budget that runs out raises
+    ``infeasible`` verdict holds for (the reason says it in words).  Where the certificate holds
+    for the single-move model only and its positioners alone can reach their targets moving
+    several joints at once (the lattice, not the robots, is in the way), ``refine`` (default)
+    solves the same problem once more on a finer lattice (:mod:`supcoord.problems.refine`,
+    steps two-thirds as long): a plan found there is returned with its ``lattice``, and
+    ``stats["refined"]`` says what the finer lattice gave.  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
     if not isinstance(problem, Problem):
@@ -275,7 +309,14 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         stats["certificate_model"] = sim["model"]
         if sim["path"] is None:
             stats["seconds"] = time.perf_counter() - t0
-            return Plan("infeasible", [], None, lb, [], _reason(problem, members, how, sim), stats)
+            verdict = Plan("infeasible", [], None, lb, [], _reason(problem, members, how, sim), stats)
+            if refine and sim["model"] == "single-move" and sim.get("alone") is not None:
+                del model, descended  # the coarse lattice's windows: memory the finer one needs
+                return _on_finer_lattice(problem, verdict, budget, dict(
+                    route=route, order=order, backend=backend, progress=progress, supervisor=supervisor,
+                    validate=validate, greedy=greedy, levels=levels, improve=improve, speed=speed,
+                    simultaneous=simultaneous))
+            return verdict
         stats["plan_model"] = "simultaneous"  # no single-move plan exists: no single-move events
         plan = Plan("complete", sim["path"], len(sim["path"]) - 1, lb, [], "", {})
     else:

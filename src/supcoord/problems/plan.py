@@ -36,7 +36,7 @@ import numpy as np
 from ..errors import FormatError, InputError
 from ..outputs import atomic_write_text
 from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
-from ..geometry.kinematics import Kinematics, _is_int
+from ..geometry.kinematics import MAX_POSITIONS, Kinematics, _is_int
 from ..geometry.layout import _short
 from .problem import Problem, read_json
 from .trajectory import check_speed, motion_to_json, parse_motion_fields, wrapped_angles, with_motion
@@ -93,6 +93,9 @@ class Plan:
     #: per robot ``{joint name: (K, 2) array of [t_s, deg]}`` (:mod:`.trajectory`), or None
     trajectories: list[dict] | None = None
     motion_time_s: float | None = None
+    #: the joints' numbers of positions the configurations index where ``solve`` planned on a
+    #: finer lattice than the problem's (:mod:`.refine`); None: the problem's own
+    lattice: tuple[int, ...] | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -115,11 +118,13 @@ class Plan:
             "stats": dict(self.stats),
         }
         angles = self.angles_deg
-        if not angles and problem is not None and self.configurations:
+        if not angles and problem is not None and self.configurations and self.lattice is None:
             angles = wrapped_angles(problem, self.configurations)
         if angles or problem is not None:
             out["angles_deg"] = [np.asarray(a, float).tolist() for a in angles]
         out.update(motion_to_json(self))
+        if self.lattice is not None:
+            out["lattice"] = [int(s) for s in self.lattice]
         return out
 
     def dump(self, path: str | Path, kin: Kinematics | Problem) -> None:
@@ -182,8 +187,13 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
     if not isinstance(stats, dict):
         raise FormatError(f"stats must be an object, got {_short(stats)}", value=stats, where=where)
     angles, trajectories, motion = parse_motion_fields(data, problem, len(out), MAX_PLAN_POSITIONS, where)
+    lattice = data.get("lattice")
+    if lattice is not None and not (isinstance(lattice, list) and len(lattice) == kin.n_joints
+                                    and all(_is_int(s) and 2 <= s <= MAX_POSITIONS for s in lattice)):
+        raise FormatError(f"lattice must list {kin.n_joints} numbers of positions in [2, {MAX_POSITIONS}], got "
+                          f"{_short(lattice)}", value=lattice, where=where)
     return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
-                motion)
+                motion, None if lattice is None else tuple(int(s) for s in lattice))
 
 
 def checked_step(kin: Kinematics, q: Any, k: int, move: Move) -> np.ndarray:

@@ -84,6 +84,7 @@ import numpy as np
 from ..errors import InputError
 from .plan import Plan
 from .problem import Problem
+from .refine import at_lattice
 from .validate_motion import (ANGLE_TOL, MAX_OPEN, TOLERANCE, Bodies, _angles_off, _check_angle_poses,
                               _check_held_and_rules, _ids, _pose_steps, _step_distances, _trajectory_arrays,
                               _trajectory_poses, _wrapping, segment_distance_ericson)
@@ -177,10 +178,15 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
         raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
                          value=resolution, where="resolution")
+    problems: list[str] = []
+    if plan.lattice is not None and tuple(plan.lattice) != problem.kinematics.shape:
+        try:  # planned on a finer lattice: the same problem re-derived there (.refine)
+            problem = at_lattice(problem, plan.lattice)
+        except InputError as exc:
+            return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
     kin = problem.kinematics
     steps = np.array([j.steps for j in kin.joints])
     wraps = np.array([j.wraps for j in kin.joints])
-    problems: list[str] = []
     shape = (problem.n, len(steps))
     confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
     poses = [np.asarray(a, dtype=float) for a in plan.angles_deg]
