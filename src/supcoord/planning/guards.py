@@ -142,7 +142,10 @@ def table_bdd(ctx: Context, table: np.ndarray, names: Sequence[str]) -> BDD:
 
     Bottom-up over the bits in the manager's level order: at each level the distinct
     (low, high) pairs of sub-functions become one ``ite`` each, so the cost is the size
-    of the result, not of the table."""
+    of the result, not of the table.  A large table is first cut in two at the middle
+    bit: the lower half's levels are reduced once per *distinct* row of the upper half
+    (a pair guard's rows are the neighbour's blocked positions, one per position of the
+    mover: at 36 × 19 positions about a third of the padded codes, and rows repeat)."""
     shape = []
     for n in names:
         shape.append(1 << ctx.vars[n].width)
@@ -155,8 +158,25 @@ def table_bdd(ctx: Context, table: np.ndarray, names: Sequence[str]) -> BDD:
     t = np.transpose(t, perm).reshape(-1)
     ordered = [bits[i] for i in perm]
     nodes: list[BDD] = [ctx.false, ctx.true]
-    ids = t.astype(np.int64)
-    for b in reversed(ordered):  # bottom-up: the last bit is the lowest level
+    low = len(ordered) // 2
+    if len(ordered) < ROW_SPLIT_BITS:
+        return nodes[int(_reduce(ctx, t.astype(np.int64), ordered, nodes)[0])]
+    packed = np.ascontiguousarray(np.packbits(t.reshape(-1, 1 << low), axis=1))
+    rows, inverse = np.unique(packed.view(np.dtype((np.void, packed.shape[1]))).reshape(-1), return_inverse=True)
+    rows = rows.view(np.uint8).reshape(len(rows), packed.shape[1])
+    distinct = np.unpackbits(rows, axis=1, count=1 << low).reshape(-1).astype(np.int64)
+    row_ids = _reduce(ctx, distinct, ordered[len(ordered) - low:], nodes)  # one node per distinct row
+    return nodes[int(_reduce(ctx, row_ids[inverse.reshape(-1)], ordered[:len(ordered) - low], nodes)[0])]
+
+
+#: tables of at least this many bits are reduced row by row (:func:`table_bdd`)
+ROW_SPLIT_BITS = 12
+
+
+def _reduce(ctx: Context, ids: np.ndarray, bits: Sequence[str], nodes: list[BDD]) -> np.ndarray:
+    """Reduce the node ids ``ids`` (``nodes`` indices, the last axis of ``bits`` fastest) over
+    ``bits``, bottom-up: one id per block of ``2^len(bits)`` entries."""
+    for b in reversed(bits):  # bottom-up: the last bit is the lowest level
         pairs = ids.reshape(-1, 2)
         base = len(nodes)
         keys = pairs[:, 0] * base + pairs[:, 1]  # one integer per (low, high)
@@ -177,4 +197,4 @@ def table_bdd(ctx: Context, table: np.ndarray, names: Sequence[str]) -> BDD:
                 nodes.append(ctx.bdd.ite(v, nodes[hi], nodes[lo]))
                 new_ids.append(len(nodes) - 1)
         ids = np.asarray(new_ids, dtype=np.int64)[inverse.reshape(-1)]
-    return nodes[int(ids[0])]
+    return ids

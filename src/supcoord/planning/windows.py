@@ -141,7 +141,7 @@ class _Windows:
             return self.model
         ctx = self.model.ctx
         wm = CoordinationModel(self.problem, order="cutwidth", members=members, backend=ctx.backend,
-                               budget=ctx.budget, progress=ctx.progress)
+                               budget=ctx.budget, progress=ctx.progress, guards_from=self.model)
         return wm
 
     def _count(self, members: list[int]) -> None:
