@@ -38,7 +38,9 @@ Problem built for supcoord:
   ``obstacle_margin`` 0 on the wok (kaiju flags a robot closer than 5.0 mm to a fiducial or
   GFA, with no step margin: its own targets may lie 5.001 mm from a fiducial).
 * steps: ``--steps AxB`` sets ``alpha_steps`` x ``beta_steps`` (default 37x19 = 10 deg steps,
-  the instrument's default); starts/targets are exact angles (``alpha_beta_deg``).
+  the instrument's default); starts/targets are exact angles (``alpha_beta_deg``). Where
+  supcoord planned on a finer lattice (``supcoord.problems.refine``: the asked one had only a
+  single-move certificate) the steps column shows it (``13x7 → 19x10``).
 
 Writes ``OUT.json`` (every row, the header and the raw sub-results) and ``OUT.md``.
 ``--append`` merges with the rows already in ``OUT.json`` (same key replaced), so a long
@@ -176,6 +178,8 @@ def supcoord_row(args, inst, direction, work) -> tuple[dict, dict]:
         row["motion_time_s"] = out.get("motion_time_s")
         row["makespan_steps"] = out.get("makespan")
         row["lower_bound_steps"] = out.get("lower_bound")
+        if out.get("lattice"):  # solve refined the lattice (a single-move certificate on the asked one)
+            row["lattice"] = "x".join(str(s) for s in out["lattice"])
     elif status == "infeasible":
         row["solved"] = "no (infeasible, certified)"
     elif res["rc"] == 3 or status in (None, "timeout", "unknown", "killed"):
@@ -341,7 +345,8 @@ def write_md(path: str, data: dict) -> None:
         if isinstance(flagged, int):
             flagged = f"{flagged} / {r['kaiju_replay_poses']}"
         L.append("| " + " | ".join([
-            r["grid"], str(r["seed"]), r["direction"], r["planner"], r.get("steps", ""), r.get("solved", ""),
+            r["grid"], str(r["seed"]), r["direction"], r["planner"],
+            r.get("steps", "") + (f" → {r['lattice']}" if r.get("lattice") else ""), r.get("solved", ""),
             fmt(r.get("deadlocked")), fmt(r.get("off_target")), fmt(r.get("cpu_s")), fmt(r.get("wall_s")),
             fmt(r.get("motion_time_s")), fmt(r.get("motion_time_smoothed_s")),
             fmt(r.get("peak_rss_mb"), 0), fmt(flagged), r.get("check", ""),
