@@ -316,8 +316,11 @@ class GuardedSystem:
             ident = model._identity[var] = model.ctx.identity([var])
         return model.ctx.and_exist(x, ident, model.ctx.bits([var]))
 
-    def pre(self, x: BDD, event: str, primed: BDD | None = None) -> BDD:
-        """``{q : δ(q, σ) ∈ X}`` (inside the invariant); ``primed`` = ``X[x_v := x'_v]`` if known."""
+    def pre(self, x: BDD, event: str, primed: BDD | None = None, within: bool = True) -> BDD:
+        """``{q : δ(q, σ) ∈ X}`` (inside the invariant); ``primed`` = ``X[x_v := x'_v]`` if known.
+        ``within=False`` leaves out the final ``∧ invariant`` for a caller that applies it
+        once to a union of pre-images (for ``X`` inside the invariant the result differs only
+        outside a :meth:`restricted` region: moves keep every code valid)."""
         ctx = self.model.ctx
         mv = self.moves[event]
         xp = self.prime(x, mv.var) if primed is None else primed
@@ -330,7 +333,7 @@ class GuardedSystem:
             if out == ctx.false:
                 break
             out &= g
-        return out & self.invariant
+        return out & self.invariant if within else out
 
     def allowed(self, state: BDD, event: str) -> bool:
         """Is ``event`` allowed at the single state ``state`` (a cube)?"""
