@@ -14,7 +14,11 @@ swept tables are symmetrised, so ``σ`` is allowed at ``q`` iff its reverse is a
   each round extends the side whose last image had fewer BDD nodes (before its first
   expansion: its frontier's size; ``mode="forward"``: only ``F``) — a small frontier can
   have a huge image: from a goal that leaves members free, one backward image of a
-  48-node frontier took 5 s and 400 k nodes where the forward ones stayed under 10 k.  The search stops when the new frontier of one side meets the other
+  48-node frontier took 5 s and 400 k nodes where the forward ones stayed under 10 k.
+  Under a node cap, a side whose image has an event's pre-image over the cap stops
+  there (that image is abandoned as soon as it is seen) and the other side goes on
+  alone; the search gives up when both have stopped.  Layers stay exact breadth-first
+  layers, so the verdicts and distances below hold for any such alternation.  The search stops when the new frontier of one side meets the other
   side's ``W`` — at ``F(i) ∩ B(j) ≠ ∅`` with ``j`` least, ``dist(q0, D) = i + j`` — or when
   a frontier is empty: that side's ``W`` is then closed under ``Img`` (it is
   ``Reach(q0)``, or ``CoReach(D)``), it misses the other end, and ``D`` is unreachable.
@@ -62,6 +66,7 @@ References
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -98,8 +103,13 @@ class Search:
     stats: dict[str, Any] = field(default_factory=dict)
 
 
-def image(S: GuardedSystem, x: BDD) -> BDD:
-    """``Img(X) = ⋃_σ Pre_σ(X) = Post(X)`` (module docstring: the graph is undirected)."""
+class _ImageTooLarge(Exception):
+    """A pre-image of the search's frontier exceeded the node cap (:func:`image`'s ``limit``)."""
+
+
+def image(S: GuardedSystem, x: BDD, limit: int | None = None) -> BDD:
+    """``Img(X) = ⋃_σ Pre_σ(X) = Post(X)`` (module docstring: the graph is undirected);
+    ``limit``: raise :class:`_ImageTooLarge` as soon as one event's pre-image has more nodes."""
     ctx = S.model.ctx
     parts = []
     primed: dict[str, BDD] = {}
@@ -108,6 +118,8 @@ def image(S: GuardedSystem, x: BDD) -> BDD:
         if xp is None:  # X[x_v := x'_v], once per written variable (v and w share it)
             xp = primed[mv.var] = S.prime(x, mv.var)
         parts.append(S.pre(x, e, primed=xp, within=False))
+        if limit is not None and len(parts[-1]) > limit:
+            raise _ImageTooLarge()
     while len(parts) > 1:  # a balanced union: operands of like size, not one growing accumulator
         parts = [parts[i] | parts[i + 1] if i + 1 < len(parts) else parts[i] for i in range(0, len(parts), 2)]
     return parts[0] & S.invariant if parts else ctx.false  # the invariant once, not once per event
@@ -147,7 +159,15 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
     while True:
         check("search", forward=len(sides[0]) - 1, backward=len(sides[1]) - 1, members=len(S.members))
         s = 0 if mode == "forward" or cost[0] <= cost[1] else 1
-        img = image(S, sides[s][-1])
+        try:
+            img = image(S, sides[s][-1], limit=max_nodes)
+        except _ImageTooLarge:  # this side is over the cap: the other goes on alone (or the cap is hit)
+            if mode == "forward" or cost[1 - s] == math.inf:
+                raise WindowBudget(f"window of {len(S.members)} members: an image exceeds {max_nodes} nodes",
+                                   stats={"forward": stats["forward"], "backward": stats["backward"],
+                                          "members": len(S.members)}, value=max_nodes) from None
+            cost[s] = math.inf
+            continue
         cost[s] = len(img)
         frontier = img & ~walls[s]  # F(i+1) = Img(F(i)) \ WF(i)  (or B)
         if frontier == ctx.false:
