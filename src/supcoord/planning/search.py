@@ -18,9 +18,11 @@ swept tables are symmetrised, so ``σ`` is allowed at ``q`` iff its reverse is a
   Under a node cap, a side whose image has an event's pre-image over the cap stops
   there (that image is abandoned as soon as it is seen) and the other side goes on
   alone; the search gives up when both have stopped.  Layers stay exact breadth-first
-  layers, so the verdicts and distances below hold for any such alternation.  The search stops when the new frontier of one side meets the other
-  side's ``W`` — at ``F(i) ∩ B(j) ≠ ∅`` with ``j`` least, ``dist(q0, D) = i + j`` — or when
-  a frontier is empty: that side's ``W`` is then closed under ``Img`` (it is
+  layers, so the verdicts and distances below hold for any such alternation.
+
+  The search stops when the new frontier of one side meets the other side's ``W`` — at
+  ``F(i) ∩ B(j) ≠ ∅`` with ``j`` least, ``dist(q0, D) = i + j`` — or when a frontier is
+  empty: that side's ``W`` is then closed under ``Img`` (it is
   ``Reach(q0)``, or ``CoReach(D)``), it misses the other end, and ``D`` is unreachable.
   *Shortest:* extending ``F`` to ``F(i)`` found nothing in ``F(i−1) ∩ WB(J)``, so a path
   of length ``L`` has its state at step ``i−1`` outside ``WB(J)``: ``L − i + 1 > J``,
