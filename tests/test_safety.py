@@ -209,6 +209,33 @@ def test_sigint_at_any_time_is_one_line_and_exit_130(delay):
     assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err.decode()
 
 
+@pytest.mark.timeout(60)
+def test_an_interrupt_swallowed_by_the_work_still_ends_the_command():
+    """A ``KeyboardInterrupt`` raised inside a ``__del__`` is only printed and the work goes
+    on; the interrupt's deadline ends the process anyway: one line, exit 130."""
+    code = ("import time\n"
+            "from supcoord.cli.main import _interrupt_once\n"
+            "_interrupt_once()\n"
+            "end, told = time.time() + 40, False\n"
+            "while True:\n"
+            "    try:\n"
+            "        if not told:\n"
+            "            told = True\n"
+            "            print('ready', flush=True)\n"
+            "        while time.time() < end:\n"
+            "            time.sleep(0.01)\n"
+            "        break\n"
+            "    except KeyboardInterrupt:\n"
+            "        pass\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout.readline().strip() == b"ready"
+    started = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130 and err.decode().strip().splitlines() == ["supcoord: interrupted"]
+    assert time.monotonic() - started < 20
+
+
 # --- the validator ----------------------------------------------------------------------
 
 def _swing_through():

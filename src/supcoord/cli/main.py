@@ -15,6 +15,7 @@ import argparse
 import contextlib
 import importlib
 import json
+import os
 import signal
 import sys
 import threading
@@ -151,21 +152,41 @@ def _silence_stdout() -> None:
         pass
 
 
+#: seconds after a Ctrl-C within which the command must have stopped cleanly; past them
+#: the process leaves with one line and exit 130 (an interrupt that landed in a ``__del__``
+#: or a weakref callback is only printed, "Exception ignored", and the work would go on)
+INTERRUPT_GRACE = 5.0
+
+
 def _interrupt_once() -> Callable[[], None]:
     """While a command works, the first Ctrl-C raises ``KeyboardInterrupt`` (a clean stop,
     exit 130) and later ones are ignored, so a second interrupt during the clean-up
-    cannot turn into a traceback.  Returns the function that restores the previous handler."""
+    cannot turn into a traceback; if the command has not stopped :data:`INTERRUPT_GRACE`
+    seconds later, the process ends with one line and exit 130.  Returns the function
+    that restores the previous handler (and calls off that deadline)."""
     if threading.current_thread() is not threading.main_thread():
         return lambda: None
     fired = []
+    done = threading.Event()
+
+    def deadline() -> None:
+        if not done.wait(INTERRUPT_GRACE):
+            os.write(2, b"supcoord: interrupted\n")
+            os._exit(130)
 
     def handler(signum, frame):  # noqa: ARG001
         if not fired:
             fired.append(True)
+            threading.Thread(target=deadline, name="supcoord-interrupt", daemon=True).start()
             raise KeyboardInterrupt
 
     previous = signal.signal(signal.SIGINT, handler)
-    return lambda: signal.signal(signal.SIGINT, previous)
+
+    def restore() -> None:
+        done.set()
+        signal.signal(signal.SIGINT, previous)
+
+    return restore
 
 
 #: seconds past ``--timeout`` after which the watchdog interrupts code between fixpoint
