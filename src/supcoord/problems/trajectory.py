@@ -44,6 +44,8 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
 
 from ..errors import FormatError, InputError
 from ..geometry.layout import _finite_number, _short
@@ -119,14 +121,16 @@ def plan_trajectories(problem: Problem, configurations: Any, speed: float) -> tu
     angles = continuous_angles(problem, configurations)
     n, names = problem.n, joint_names(problem)
     own = np.abs(np.diff(angles, axis=0)).max(axis=2, initial=0.0) / speed  # (T, N): each robot's time
+    pairs = np.asarray(problem.pairs, dtype=np.int64).reshape(-1, 2)
+    adjacency = csr_matrix((np.ones(len(pairs), dtype=bool), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     near: list[list[int]] = [[] for _ in range(n)]
-    for a, b in problem.pairs:
-        near[int(a)].append(int(b))
-        near[int(b)].append(int(a))
+    for a, b in pairs.tolist():
+        near[a].append(b)
+        near[b].append(a)
     ready = np.zeros(n)  # when each robot's last group ends
     moves: list[list[tuple[float, float, int]]] = [[] for _ in range(n)]  # (start, end, step)
     for k in range(len(own)):
-        for group in _groups(np.nonzero(own[k] > 0)[0], near):
+        for group in _groups(np.nonzero(own[k] > 0)[0], adjacency):
             start = max(float(ready[q]) for p in group for q in [p, *near[p]])
             end = start + float(own[k, group].max())
             for p in group:
@@ -149,20 +153,13 @@ def plan_trajectories(problem: Problem, configurations: Any, speed: float) -> tu
     return out, total
 
 
-def _groups(moving: np.ndarray, near: list[list[int]]) -> list[list[int]]:
-    """The connected groups of the ``moving`` robots, two robots joined when neighbours."""
-    left, out = set(int(p) for p in moving), []
-    while left:
-        stack, group = [left.pop()], []
-        while stack:
-            p = stack.pop()
-            group.append(p)
-            for q in near[p]:
-                if q in left:
-                    left.remove(q)
-                    stack.append(q)
-        out.append(sorted(group))
-    return out
+def _groups(moving: np.ndarray, adjacency: Any) -> list[list[int]]:
+    """The connected groups of the ``moving`` robots, two robots joined when neighbours
+    (``adjacency``: the sparse matrix of the neighbour pairs)."""
+    if not len(moving):
+        return []
+    count, label = connected_components(adjacency[moving][:, moving], directed=False)
+    return [moving[label == c].tolist() for c in range(count)]
 
 
 def _without_straight_points(points: np.ndarray, speed: float) -> np.ndarray:
