@@ -164,3 +164,19 @@ def test_the_obstacle_margin_can_differ_from_the_robots_margin():
     assert np.allclose(p.buffers[0] + p.obstacle_buffers[0], 5.0) and np.allclose(p.buffers.sum(), 2.1)
     with pytest.raises(InputError, match="obstacle_margin"):
         _two(obstacle, start, target, collision={"buffer": 1.0, "obstacle_margin": -1})
+
+
+@pytest.mark.timeout(120)
+def test_a_robot_with_an_obstacle_moving_two_joints_across_the_wrap_is_scheduled():
+    # robot 0 (wrapping alpha, a fiducial beside it) turns alpha across 360 -> 0 and beta in
+    # one step of the schedule: its motion from the position before the wrap must be checked
+    # (once an internal ValueError: an index one past the last alpha position)
+    from supcoord.testing.oracle.cases import tight_angle_problem
+
+    data = tight_angle_problem(98, n=6, max_product=10**9)
+    data["layout"]["obstacles"] = [{"xy": [3.0, 14.0], "buffer": 1.0}]
+    p = parse_problem(data)
+    assert 0 in p.unary()
+    for options in ({"improve": 0, "refine": False}, {}):
+        plan = supcoord.solve(p, **options)
+        assert plan.status == "complete" and supcoord.validate_plan(p, plan)["valid"]

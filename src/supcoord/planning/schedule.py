@@ -69,7 +69,7 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
         if busy or p in at:
             dp = at.get(p, np.zeros(nj, dtype=np.int64)).copy()
             dp[joint] += d
-            start_p = cur[p] - at[p] if p in at else cur[p]
+            start_p = problem.kin(p).wrap(cur[p] - at[p]) if p in at else cur[p]  # a wrapping joint may have wrapped
             qs = nbrs[p]
             if p in at and problem.own_motion_blocked(p, start_p, dp, tol)[0]:
                 s = s_min + 1  # several joints at once past a fixed obstacle
@@ -90,7 +90,7 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
                 if s == s_min:
                     for q in moving:
                         k_pair, side = pair_of[(p, q)]
-                        start_q = cur[q] - at[q] if q in at else cur[q]
+                        start_q = problem.kin(q).wrap(cur[q] - at[q]) if q in at else cur[q]
                         if not motion_free(problem, k_pair, side, start_p, dp, start_q, at.get(q), tol):
                             s = s_min + 1
                             break
