@@ -511,3 +511,63 @@ def test_few_displaced_windows_reach_what_the_explicit_twin_reaches(name, seed):
                                 keep=lambda t: sum(a != b for a, b in zip(t, s0)) <= bound)
         assert model.ctx.count(res.closed, S.variables) == len(naive)
     assert len(naive) < len(reachable_naive(p, members, p.start)) or p.n <= 2
+
+
+def _reference_allowed(rp, r, t, u):
+    """What ``allowed_mask`` must give, from the whole simultaneous tables of the pairs
+    (``CollisionTables.simultaneous``, checked against ``motion_collides`` in test_collision)
+    and, for several joints at once, ``motion_collides`` itself, position by position."""
+    from supcoord.geometry.motion import motion_collides
+
+    p, pos = rp.problem, rp.pos
+    ok = rp.nxt[u] >= 0
+    unary = p.unary().get(r)
+    if unary is not None:
+        ok = ok & ~(unary[0] if u == 0 else unary[1][u - 1] if u < rp.n_single else
+                    np.array([bool(p.own_motion_blocked(r, pos[i], rp.deltas[u])[0]) if ok[i] else True
+                              for i in range(len(pos))]))
+    for k, (a, b) in enumerate(np.asarray(p.pairs).tolist()):
+        if r not in (a, b):
+            continue
+        q, side = (b, 0) if a == r else (a, 1)
+        j0, j1 = int(rp.traj[t, q]), int(rp.traj[t + 1, q])
+        v = 0 if j0 == j1 else rp.option_of(q, t)
+        if u < rp.n_single and v < rp.n_single:
+            sim = p.tables().simultaneous(k)
+            ok = ok & ~(sim[u, v, :, j0] if side == 0 else sim[v, u, j0, :])
+        else:
+            idx = np.nonzero(ok)[0]
+            ok[idx] = ~motion_collides(p.kin(r), p.bases[r], pos[idx], rp.deltas[u], p.kin(q), p.bases[q],
+                                       pos[j0], rp.deltas[v], p.buffers[r] + p.buffers[q])
+    return ok
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("kind,seed", [("ab", 0), ("ab", 4), ("angles", 94), ("obstacle", 94), ("obstacle", 98)])
+def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
+    """The re-planner reads swept tables where one robot stands and computes the motions of
+    both only where it needs them (end-point bound first): every mask it gives equals the
+    one read off the pairs' whole simultaneous tables, for every option, robot and step of a
+    plan (shared kinematics, and robots with their own lattices and obstacles)."""
+    from supcoord.planning.improve import _Replanner
+    from supcoord.problems.problem import parse_problem
+    from supcoord.testing.oracle.cases import tight_angle_problem
+
+    if kind == "ab":
+        p = random_problem({"kind": "hex", "rings": 1, "pitch": 22.4}, AB_SDSS, 2.0, seed=seed)
+    else:
+        data = tight_angle_problem(seed, n=6, max_product=10**9)
+        if kind == "obstacle":  # a fiducial near the first robots (their own constraints: unary tables)
+            data["layout"]["obstacles"] = [{"xy": {94: [9.0, 17.0], 98: [3.0, 14.0]}[seed], "buffer": 1.0}]
+        p = parse_problem(data)
+        assert bool(p.unary()) == (kind == "obstacle")
+    plan = solve(p, improve=0, refine=False)
+    assert plan.status == "complete" and plan.makespan >= 2
+    rp = _Replanner(p, [np.asarray(c) for c in plan.configurations], {"replans": 0, "improved": 0})
+    checked = 0
+    for r in range(p.n):
+        for t in range(plan.makespan):
+            for u in range(len(rp.deltas)):
+                assert np.array_equal(rp.allowed_mask(r, t, u), _reference_allowed(rp, r, t, u)), (r, t, u)
+                checked += 1
+    assert checked >= p.n * 2 * 9

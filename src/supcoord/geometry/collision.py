@@ -41,7 +41,7 @@ from ..errors import InputError
 from .kinematics import MAX_POSITIONS, Kinematics
 from .batch import KinematicsArrays, batch_swept
 from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
-from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, turn_collides
+from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
 
@@ -57,6 +57,7 @@ __all__ = [
     "motion_collides",
     "distance_table",
     "simultaneous_table",
+    "prefiltered_motion_collides",
     "colliding_pairs",
     "robots_motion_collides",
     "robot_segments",
@@ -194,17 +195,10 @@ def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, t
     for u in range(len(moves)):
         for v in range(len(moves)):
             vi, vj = np.nonzero(valid[u])[0], np.nonzero(valid[v])[0]
-            d0 = distances[np.ix_(vi, vj)]
-            d1 = distances[np.ix_(nxt_idx[u][vi], nxt_idx[v][vj])]
-            length = float(kin.sweep_length(deltas[u]) + kin_b.sweep_length(deltas[v]))
-            hit = (d0 < bsum) | (d1 < bsum)
-            free = ~hit & ((d0 + d1 - length) / 2 >= bsum)
-            ii, jj = np.nonzero(~hit & ~free)
-            res = hit
-            if len(ii):
-                res[ii, jj] = motion_collides(kin, base_a, pos[vi[ii]], deltas[u], kin_b, base_b, pos[vj[jj]],
-                                              deltas[v], bsum, tol)
-            out[u, v][np.ix_(vi, vj)] = res
+            ii, jj = (x.ravel() for x in np.meshgrid(vi, vj, indexing="ij"))
+            res = prefiltered_motion_collides(kin, base_a, pos, ii, nxt_idx[u][ii], deltas[u], kin_b, base_b, jj,
+                                              nxt_idx[v][jj], deltas[v], bsum, distances, tol)
+            out[u, v][np.ix_(vi, vj)] = res.reshape(len(vi), len(vj))
     return out
 
 
@@ -257,6 +251,7 @@ class CollisionTables:
         self.pairs = neighbour_pairs(self.bases, robot_reaches(kins if kins is not None else kin, len(self.bases)),
                                      self.buffers)
         self._static: dict[tuple, np.ndarray] = {}
+        self._keys: dict[int, tuple] = {}  # pair -> its sharing key (offset, buffer sum, kinematics ids)
         self._swept: dict[tuple, np.ndarray] = {}
         self._dist: dict[tuple, np.ndarray] = {}
 
@@ -270,10 +265,13 @@ class CollisionTables:
         return self.unary.get(a), self.unary.get(b)
 
     def _key(self, k: int) -> tuple:
-        a, b = self.pairs[k]
-        off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
-        return ((float(off[0]), float(off[1])), round(float(self.buffers[a] + self.buffers[b]), 9),
-                int(self._ids[a]), int(self._ids[b]))
+        key = self._keys.get(k)
+        if key is None:
+            a, b = self.pairs[k]
+            off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
+            key = self._keys[k] = ((float(off[0]), float(off[1])), round(float(self.buffers[a] + self.buffers[b]), 9),
+                                   int(self._ids[a]), int(self._ids[b]))
+        return key
 
     def static(self, k: int) -> np.ndarray:
         key = self._key(k)
@@ -287,6 +285,12 @@ class CollisionTables:
                 table = table | fb[0][None, :]
             self._static[key] = table
         return self._static[key]
+
+    def distances(self, k: int) -> np.ndarray:
+        """``D[i, j]``: the distance between pair ``k``'s colliding segments, ``a`` at position
+        ``i`` and ``b`` at ``j`` (:func:`distance_table`; shared like the tables)."""
+        off, _, ua, ub = self._key(k)
+        return self._distances(off, ua, ub)
 
     def _distances(self, offset: tuple[float, float], ua: int = 0, ub: int = 0) -> np.ndarray:
         key = (offset, ua, ub)

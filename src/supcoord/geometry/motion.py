@@ -32,7 +32,7 @@ from .kinematics import Kinematics
 from .segments import segment_distance
 from .sweep import rotation_clearance
 
-__all__ = ["placed_segments", "turn_collides", "motion_collides", "DEFAULT_TOL", "CHUNK"]
+__all__ = ["placed_segments", "turn_collides", "motion_collides", "prefiltered_motion_collides", "DEFAULT_TOL", "CHUNK"]
 
 #: default tolerance (mm) of the certified sampling of simultaneous motions
 DEFAULT_TOL = 1e-6
@@ -87,6 +87,28 @@ def motion_collides(kin_a: Kinematics, base_a: Any, qa: Any, da: Any,
         result[todo] = _bisect_collides(kin_a, base_a[todo], qa[todo], da[todo], kin_b, base_b[todo], qb[todo],
                                         db[todo], bsum[todo], length[todo], tol, max(1, int(coarse)))
     return result.reshape(lead)
+
+
+def prefiltered_motion_collides(kin_a: Kinematics, base_a: Any, pos: np.ndarray, ia: np.ndarray, ia1: np.ndarray,
+                                da: Any, kin_b: Kinematics, base_b: Any, jb: np.ndarray, jb1: np.ndarray, db: Any,
+                                bsum: float, distances: np.ndarray, tol: float = DEFAULT_TOL) -> np.ndarray:
+    """:func:`motion_collides` of ``a`` moving ``da`` from lattice position ``ia`` (to ``ia1``)
+    while ``b`` moves ``db`` from ``jb`` (to ``jb1``), entries ``(E,)``, settled first by the
+    end-point distances ``distances[i_a, j_b]`` (:func:`.collision.distance_table`) where they can be:
+    ``min(d0, d1) < r`` collides and, every point moving at most ``L`` (the two sweep
+    lengths), ``(d0 + d1 − L)/2 ≥ r`` is free (the bound of :func:`.collision.swept_table`); the rest
+    is sampled.  ``pos``: the lattice's positions (``kin_a``'s and ``kin_b``'s shape)."""
+    ia, ia1, jb, jb1 = (np.asarray(x, dtype=np.int64).reshape(-1) for x in (ia, ia1, jb, jb1))
+    d0, d1 = distances[ia, jb], distances[ia1, jb1]
+    length = np.asarray(kin_a.sweep_length(da) + kin_b.sweep_length(db), float)
+    hit = (d0 < bsum) | (d1 < bsum)
+    todo = np.nonzero(~hit & ((d0 + d1 - length) / 2 < bsum))[0]
+    if len(todo):
+        da_t = np.asarray(da, float)
+        db_t = np.asarray(db, float)
+        hit[todo] = motion_collides(kin_a, base_a, pos[ia[todo]], da_t if da_t.ndim == 1 else da_t[todo], kin_b,
+                                    base_b, pos[jb[todo]], db_t if db_t.ndim == 1 else db_t[todo], bsum, tol)
+    return hit
 
 
 def _bisect_collides(kin_a: Kinematics, base_a: np.ndarray, qa: np.ndarray, da: np.ndarray, kin_b: Kinematics,

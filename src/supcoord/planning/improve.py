@@ -11,8 +11,12 @@ and ``f_r`` for the step after its last move (``T = max_r f_r``).  One *re-plan*
     f'_r = least t with target_r ∈ R(t) such that r may stand at target during
            every step t … T' − 1  (T' = the plan's length)
 
-(pairs checked as they move together: :meth:`CollisionTables.simultaneous`, or
-:func:`~supcoord.geometry.collision.motion_collides` where the neighbour moves two joints at once).
+(pairs checked as they move together: where one of the two stands, the exact swept tables
+the planner already has; where both move, the certified motion
+:func:`~supcoord.geometry.motion.motion_collides`, computed only for the neighbour's actual
+move, for every option and position of ``r`` at once, after the end-point bound of the
+swept tables: entry for entry the pairs' whole simultaneous tables
+(:meth:`CollisionTables.simultaneous`), without computing them).
 The new trajectory replaces the old when it arrives earlier; since every other
 trajectory is unchanged and each of ``r``'s steps was checked against the others'
 motion in that very step, the plan stays valid — and it still starts at the start and
@@ -47,7 +51,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..geometry.collision import motion_collides
+from ..geometry.motion import prefiltered_motion_collides
 from ..problems.problem import Problem
 from .guards import conflict_graph, pair_graph, successor_table
 
@@ -66,7 +70,7 @@ def _trajectories(problem: Problem, confs: list[np.ndarray]) -> np.ndarray:
 
 def _step_options(problem: Problem) -> tuple[list[np.ndarray], int, np.ndarray]:
     """``(deltas, n_single, nxt)``: the options of one step — 0 stands, ``1 + m`` is
-    ``moves()[m]`` (the indices of :meth:`CollisionTables.simultaneous`), then the moves of
+    ``moves()[m]`` (the move indices of the swept tables, plus one), then the moves of
     several joints at once (from ``n_single`` on) — and ``nxt[u, i]``, the flat position
     after option ``u`` from ``i`` (−1: past a hard stop)."""
     kin = problem.kinematics
@@ -98,12 +102,21 @@ class _Replanner:
         self.stats = stats
         self.absent: set[int] = set()  # positioners being re-planned (not obstacles yet)
         self.merged_cache: dict[tuple, np.ndarray] = {}
+        self._options: dict[int, list[int]] = {}  # option_of, per positioner
+        self._geometry: dict[tuple[int, int], tuple] = {}  # (pair, side) -> the geometry key of (r, q)
 
     def option_of(self, r: int, t: int) -> int:
-        """The option index of ``r``'s step ``t``."""
-        pos, traj = self.pos, self.traj
-        d = self.kin.signed_delta(pos[traj[t, r]], pos[traj[t + 1, r]])
-        return self.delta_of[tuple(int(v) for v in d)]
+        """The option index of ``r``'s step ``t`` (computed per trajectory, until it changes)."""
+        options = self._options.get(r)
+        if options is None:
+            pos, column = self.pos, self.traj[:, r]
+            deltas = self.kin.signed_delta(pos[column[:-1]], pos[column[1:]]).reshape(len(column) - 1, -1)
+            options = self._options[r] = [self.delta_of[tuple(int(v) for v in d)] for d in deltas.tolist()]
+        return options[t]
+
+    def set_trajectory(self, r: int, column: np.ndarray) -> None:
+        self.traj[:, r] = column
+        self._options.pop(r, None)
 
     def finish(self, r: int) -> int:
         """``f_r``: the step after ``r``'s last move (0: it never moves)."""
@@ -129,29 +142,50 @@ class _Replanner:
                 continue
             j0, j1 = int(self.traj[t, q]), int(self.traj[t + 1, q])
             v = 0 if j0 == j1 else self.option_of(q, t)
-            if u == 0 and v < self.n_single and (r, q) not in self.conflict:
-                continue  # a single joint past a standing r: never blocked for this pair
-            if u < self.n_single and v < self.n_single:
-                sim = self.tables.simultaneous(k)  # [u_a, v_b, i_a, j_b]
-                hit = sim[u, v, :, j0] if side == 0 else sim[v, u, j0, :]
-                ok &= ~hit
-            else:  # several joints at once: the merged motion, for every position of r at once
-                ok &= ~self.merged_hits(k, side, u, v, j0)
+            if u == 0 and v == 0:
+                if (r, q) in self.conflict:
+                    ok &= ~(self.tables.static(k)[:, j0] if side == 0 else self.tables.static(k)[j0, :])
+            elif u == 0 and v < self.n_single:  # q turns one joint past a standing r: q's swept table
+                if (r, q) in self.conflict:
+                    swept = self.tables.swept(k, 1 - side)  # [move of q, i_a, j_b]
+                    ok &= ~(swept[v - 1, :, j0] if side == 0 else swept[v - 1, j0, :])
+            elif v == 0 and u < self.n_single:  # r turns one joint past a standing q: r's swept table
+                swept = self.tables.swept(k, side)
+                ok &= ~(swept[u - 1, :, j0] if side == 0 else swept[u - 1, j0, :])
+            else:  # both move, or several joints at once: the merged motion, for every position of r at once
+                ok &= ~self.merged_hits(k, side, v, j0)[u]
         return ok
 
-    def merged_hits(self, k: int, side: int, u: int, v: int, j0: int) -> np.ndarray:
-        """``hit[i]``: ``r`` doing option ``u`` from ``i`` while ``q`` does ``v`` from ``j0``."""
-        problem, pos = self.problem, self.pos
-        a, b = (int(x) for x in problem.pairs[k])
-        r, q = (a, b) if side == 0 else (b, a)
-        key = problem.geometry_key(r, q) + (u, v, j0)
+    def merged_hits(self, k: int, side: int, v: int, j0: int) -> np.ndarray:
+        """``hit[u, i]``: ``r`` doing option ``u`` from ``i`` while ``q`` does option ``v`` from ``j0``
+        (the pair's certified simultaneous motion, :func:`motion_collides`), every option and
+        position of ``r`` at once; only the options the tables do not give are computed (stand
+        with ``v`` a single joint, or a single joint with ``v`` standing: left ``False``)."""
+        geometry = self._geometry.get((k, side))
+        if geometry is None:
+            a, b = (int(x) for x in self.problem.pairs[k])
+            geometry = self._geometry[k, side] = self.problem.geometry_key(a, b) if side == 0 else \
+                self.problem.geometry_key(b, a)
+        key = geometry + (v, j0)
         hit = self.merged_cache.get(key)  # keyed by the pair's geometry: a grid has few distinct offsets
         if hit is None:
-            sel = np.nonzero(self.nxt[u] >= 0)[0]
-            hit = np.ones(len(pos), dtype=bool)
-            hit[sel] = motion_collides(problem.kin(r), problem.bases[r], pos[sel], self.deltas[u], problem.kin(q),
-                                       problem.bases[q], pos[j0],
-                                       self.deltas[v], problem.buffers[r] + problem.buffers[q])
+            problem, pos = self.problem, self.pos
+            a, b = (int(x) for x in problem.pairs[k])
+            r, q = (a, b) if side == 0 else (b, a)
+            hit = np.zeros((len(self.deltas), len(pos)), dtype=bool)
+            wanted = [u for u in range(len(self.deltas))
+                      if not ((u == 0 and v < self.n_single) or (v == 0 and u < self.n_single))]
+            uu, ii = (x.ravel() for x in np.meshgrid(wanted, np.arange(len(pos)), indexing="ij"))
+            out = np.ones(len(uu), dtype=bool)
+            sel = np.nonzero(self.nxt[uu, ii] >= 0)[0]
+            uu_s, ii_s = uu[sel], ii[sel]
+            dist = self.tables.distances(k)
+            dist = dist if side == 0 else dist.T  # [position of r, position of q]
+            out[sel] = prefiltered_motion_collides(
+                problem.kin(r), problem.bases[r], pos, ii_s, self.nxt[uu_s, ii_s], np.asarray(self.deltas)[uu_s],
+                problem.kin(q), problem.bases[q], np.full(len(sel), j0), np.full(len(sel), self.nxt[v, j0]),
+                self.deltas[v], float(problem.buffers[r] + problem.buffers[q]), dist)
+            hit[uu, ii] = out
             self.merged_cache[key] = hit
         return hit
 
@@ -214,10 +248,11 @@ class _Replanner:
             if new is None:
                 ok = False
                 break
-            self.traj[:, g] = new
+            self.set_trajectory(g, new)
         self.absent.clear()
         if not ok:
-            self.traj[:, group] = old
+            for g, column in zip(group, old.T):
+                self.set_trajectory(g, column)
         return ok
 
     def round(self, max_replans: int, check: Callable[[], None] | None = None) -> bool:
