@@ -571,3 +571,23 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
                 assert np.array_equal(rp.allowed_mask(r, t, u), _reference_allowed(rp, r, t, u)), (r, t, u)
                 checked += 1
     assert checked >= p.n * 2 * 9
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("kind,seed", [("rot", 7), ("ab", 3)])
+def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeypatch):
+    """Where no group of the latest robot with its latest neighbours arrives earlier, a group
+    with the neighbours in the way of its path without neighbours does (seeds where that
+    happens): the plan is valid and shorter than without those groups."""
+    from supcoord.planning.improve import _Replanner
+
+    kin = ROT if kind == "rot" else AB_SDSS
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
+    plan = solve(p, improve=0, refine=False)
+    confs, stats = improve_plan(p, plan.configurations)
+    assert stats["improved_with_blockers"] >= 1
+    assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
+    assert validate_plan(p, Plan("complete", confs))["valid"]
+    monkeypatch.setattr(_Replanner, "_blocker_groups", lambda self, r, horizon, tried: [])
+    without, stats_without = improve_plan(p, plan.configurations)
+    assert stats_without["improved_with_blockers"] == 0 and len(confs) < len(without)

@@ -25,7 +25,8 @@ ends at the target.  Rounds go over the positioners in order of decreasing ``f_r
 budget (a number of re-plannings, never seconds: the same input gives the same plan on
 any machine) runs out; trailing steps in which nothing moves are dropped.
 
-A *group* re-plan takes the positioner ``r`` and its latest neighbours out, re-plans
+A *group* re-plan takes the positioner ``r`` and some neighbours out (its latest ones;
+failing those, the ones in the way of ``r``'s earliest arrival without neighbours), re-plans
 them one after another (prioritised: each sees those already re-planned, not the
 others), and keeps the result only if every one of them arrives and the group's last
 arrival is earlier than before — otherwise the old trajectories are restored.  Each
@@ -34,7 +35,7 @@ the final plan, so the plan stays valid.
 
 This changes the plan, never a verdict (the plan was already complete), so it may
 use the simultaneous semantics, wider than the single-move model the verdicts are
-about.  It is large-neighbourhood search with neighbourhoods of one to three
+about.  It is large-neighbourhood search with neighbourhoods of one to five
 positioners around the ones that set the makespan.
 
 References
@@ -255,10 +256,44 @@ class _Replanner:
                 self.set_trajectory(g, column)
         return ok
 
+    def _first_group(self, groups: list[list[int]], horizon: int) -> bool:
+        """Re-plan the first of ``groups`` that :meth:`regroup` can shorten; did one?"""
+        return any(len(set(g)) == len(g) and self.regroup(g, horizon) for g in groups)
+
+    def blockers(self, r: int, horizon: int) -> list[int]:
+        """The neighbours in the way of ``r``'s earliest arrival without them (its own
+        constraints only), in the order they first block that path."""
+        near = [q for _, q, _ in self.nbrs[r]]
+        self.absent = set(near)
+        path = self.replan(r, horizon, horizon + 1)
+        self.stats["replans"] += 1
+        first: dict[int, int] = {}
+        for t in range(horizon if path is not None else 0):
+            i, j = int(path[t]), int(path[t + 1])
+            u = 0 if i == j else self.delta_of[tuple(int(v) for v in self.kin.signed_delta(self.pos[i], self.pos[j]))]
+            for q in near:
+                if q not in first:
+                    self.absent = set(near) - {q}
+                    if not self.allowed_mask(r, t, u)[i]:
+                        first[q] = t
+        self.absent = set()
+        return sorted(first, key=lambda q: (first[q], q))
+
+    def _blocker_groups(self, r: int, horizon: int, tried: list[list[int]]) -> list[list[int]]:
+        """Groups of ``r`` with the neighbours in its way (:meth:`blockers`), ``r`` first or
+        last, that are not among ``tried``."""
+        b = self.blockers(r, horizon)
+        groups = [[r] + b[:1], [r] + b[:2], [r] + b[:3], [r] + b[:4], b[:2] + [r], b[:3] + [r]]
+        out: list[list[int]] = []
+        for g in groups:
+            if len(g) > 1 and g not in tried and g not in out:
+                out.append(g)
+        return out
+
     def round(self, max_replans: int, check: Callable[[], None] | None = None) -> bool:
         """One round over the positioners that set the makespan, latest first (groups of
-        one to three with their latest neighbours); trailing idle steps dropped.  Did it
-        improve anything?"""
+        one to three with their latest neighbours, then of up to five with the neighbours in
+        its way); trailing idle steps dropped.  Did it improve anything?"""
         improved = False
         horizon = len(self.traj) - 1
         finish = self.finish
@@ -270,11 +305,14 @@ class _Replanner:
             if finish(r) < horizon - 1:
                 break  # only the positioners that set the makespan
             late = sorted((q for _, q, _ in self.nbrs[r] if finish(q) > 0), key=lambda q: (-finish(q), q))
-            for group in ([r], [r] + late[:1], [r] + late[:2], late[:2] + [r]):
-                if len(set(group)) == len(group) and self.regroup(group, horizon):
-                    self.stats["improved"] += 1
-                    improved = True
-                    break
+            groups = [[r], [r] + late[:1], [r] + late[:2], late[:2] + [r]]
+            if self._first_group(groups, horizon):
+                self.stats["improved"] += 1
+                improved = True
+            elif self._first_group(self._blocker_groups(r, horizon, groups), horizon):
+                self.stats["improved"] += 1
+                self.stats["improved_with_blockers"] += 1
+                improved = True
         last = max(finish(r) for r in range(self.problem.n))
         self.traj = self.traj[:last + 1]
         return improved
@@ -292,7 +330,7 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
     if max_replans is None:
         max_replans = default_replans(problem.n)
     kin = problem.kinematics
-    stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0,
+    stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0, "improved_with_blockers": 0,
                              "max_replans": int(max_replans)}
     rp = _Replanner(problem, confs, stats)
     improved = True
