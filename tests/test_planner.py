@@ -588,6 +588,27 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
     assert stats["improved_with_blockers"] >= 1
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]
-    monkeypatch.setattr(_Replanner, "_blocker_groups", lambda self, r, horizon, tried: [])
+    monkeypatch.setattr(_Replanner, "blockers", lambda self, r, horizon: [])
     without, stats_without = improve_plan(p, plan.configurations)
     assert stats_without["improved_with_blockers"] == 0 and len(confs) < len(without)
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("kind,seed", [("rot", 9), ("ab", 2), ("ab", 5)])
+def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, seed, monkeypatch):
+    """Two neighbours that must give way to each other: planned one at a time neither can
+    arrive earlier, planned together (``pair_replan``: the product of their positions in
+    space-time) they do (seeds where that happens); the plan is valid, starts at the start,
+    ends at the target, and is shorter than without the joint re-plan."""
+    from supcoord.planning.improve import _Replanner
+
+    kin = ROT if kind == "rot" else AB_SDSS
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
+    plan = solve(p, improve=0, refine=False)
+    confs, stats = improve_plan(p, plan.configurations)
+    assert stats["improved_with_pairs"] >= 1
+    assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
+    assert validate_plan(p, Plan("complete", confs))["valid"]
+    monkeypatch.setattr(_Replanner, "replan_pair", lambda self, r, q, horizon: False)
+    without, _ = improve_plan(p, plan.configurations)
+    assert len(confs) < len(without)

@@ -55,6 +55,7 @@ import numpy as np
 from ..geometry.motion import prefiltered_motion_collides
 from ..problems.problem import Problem
 from .guards import conflict_graph, pair_graph, successor_table
+from .pair_replan import pair_replan
 
 __all__ = ["improve_plan", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
 
@@ -190,7 +191,7 @@ class _Replanner:
             self.merged_cache[key] = hit
         return hit
 
-    def _stay_from(self, r: int, goal: int, horizon: int) -> list[bool]:
+    def stay_from(self, r: int, goal: int, horizon: int) -> list[bool]:
         """``stay_from[t]``: may ``r`` stand at ``goal`` during steps ``t … horizon − 1``?"""
         stay = [bool(self.allowed_mask(r, t, 0)[goal]) for t in range(horizon)]
         stay_from = [True] * (horizon + 1)
@@ -202,7 +203,7 @@ class _Replanner:
         """``r``'s earliest-arrival trajectory (length ``horizon + 1``) if it arrives before ``before``."""
         npos = len(self.pos)
         goal = int(self.kin.flat_index(self.problem.target[r]))
-        stay_from = self._stay_from(r, goal, horizon)
+        stay_from = self.stay_from(r, goal, horizon)
         reach = np.zeros(npos, dtype=bool)
         reach[int(self.traj[0, r])] = True
         parents: list[np.ndarray] = []
@@ -279,16 +280,17 @@ class _Replanner:
         self.absent = set()
         return sorted(first, key=lambda q: (first[q], q))
 
-    def _blocker_groups(self, r: int, horizon: int, tried: list[list[int]]) -> list[list[int]]:
-        """Groups of ``r`` with the neighbours in its way (:meth:`blockers`), ``r`` first or
-        last, that are not among ``tried``."""
-        b = self.blockers(r, horizon)
-        groups = [[r] + b[:1], [r] + b[:2], [r] + b[:3], [r] + b[:4], b[:2] + [r], b[:3] + [r]]
-        out: list[list[int]] = []
-        for g in groups:
-            if len(g) > 1 and g not in tried and g not in out:
-                out.append(g)
-        return out
+    def replan_pair(self, r: int, q: int, horizon: int) -> bool:
+        """Re-plan neighbours ``r`` and ``q`` together (:mod:`.pair_replan`); keep the result if
+        their last arrival comes earlier."""
+        k, side = next((k, side) for k, x, side in self.nbrs[r] if x == q)
+        new = pair_replan(self, r, q, k, side, horizon, max(self.finish(r), self.finish(q)))
+        self.stats["replans"] += 1
+        if new is None:
+            return False
+        self.set_trajectory(r, new[0])
+        self.set_trajectory(q, new[1])
+        return True
 
     def round(self, max_replans: int, check: Callable[[], None] | None = None) -> bool:
         """One round over the positioners that set the makespan, latest first (groups of
@@ -309,13 +311,30 @@ class _Replanner:
             if self._first_group(groups, horizon):
                 self.stats["improved"] += 1
                 improved = True
-            elif self._first_group(self._blocker_groups(r, horizon, groups), horizon):
-                self.stats["improved"] += 1
+                continue
+            blockers = self.blockers(r, horizon)
+            if self._first_group(_blocker_groups(r, blockers, groups), horizon):
                 self.stats["improved_with_blockers"] += 1
-                improved = True
+            elif any(self.replan_pair(r, q, horizon) for q in blockers[:2]):
+                self.stats["improved_with_pairs"] += 1
+            else:
+                continue
+            self.stats["improved"] += 1
+            improved = True
         last = max(finish(r) for r in range(self.problem.n))
         self.traj = self.traj[:last + 1]
         return improved
+
+
+def _blocker_groups(r: int, blockers: list[int], tried: list[list[int]]) -> list[list[int]]:
+    """Groups of ``r`` with the neighbours in its way (:meth:`_Replanner.blockers`), ``r``
+    first or last, that are not among ``tried``."""
+    b = blockers
+    out: list[list[int]] = []
+    for g in ([r] + b[:1], [r] + b[:2], [r] + b[:3], [r] + b[:4], b[:2] + [r], b[:3] + [r]):
+        if len(g) > 1 and g not in tried and g not in out:
+            out.append(g)
+    return out
 
 
 def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | None = None,
@@ -331,6 +350,7 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
         max_replans = default_replans(problem.n)
     kin = problem.kinematics
     stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0, "improved_with_blockers": 0,
+                             "improved_with_pairs": 0,
                              "max_replans": int(max_replans)}
     rp = _Replanner(problem, confs, stats)
     improved = True

@@ -1,0 +1,128 @@
+"""Two neighbours re-planned together in space-time: the joint neighbourhood of plan improvement.
+
+:mod:`.improve` re-plans positioners one at a time, each around the fixed trajectories of
+the others.  Two neighbours that are each in the other's way (one must step aside while
+the other passes) defeat that: whichever is planned first takes the straight path, and
+the second can no longer arrive.  Planning the pair at once finds the plan in which they
+give way to each other.  With ``τ_q`` the fixed trajectories of every other positioner::
+
+    R(0) = {(start_r, start_b)},
+    R(t+1) = {(i + u, j + v) : (i, j) ∈ R(t), u, v ∈ the options of a step (stand, one joint, several),
+              r doing u from i is free against every other neighbour's step τ_q(t) → τ_q(t+1)
+              (and its own constraints), likewise b doing v from j,
+              and r doing u from i while b does v from j is free}
+
+(the last test is the pair's simultaneous table,
+:meth:`~supcoord.geometry.collision.CollisionTables.simultaneous`, where each turns at most
+one joint, else the certified motion
+:func:`~supcoord.geometry.motion.prefiltered_motion_collides` for the states reached: both
+moving linearly over the same step, the validator's interpolation); the pair's new trajectories are the
+earliest ``t`` with ``(target_r, target_b) ∈ R(t)`` from which both may stand at their
+targets to the plan's end, read back through the parents of each layer.  Each step of
+either was checked against every other trajectory of the plan in that very step and
+against the other's, so the plan stays valid.  The state space is the pair's product of
+positions (``91² = 8,281`` on a 13 × 7 lattice), one boolean layer per step.
+
+Reference
+---------
+- G. Wagner, H. Choset, Subdimensional expansion for multirobot path planning, Artificial
+  Intelligence 219, 2015 (planning coupled robots jointly, only where they interact).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..geometry.motion import prefiltered_motion_collides
+
+__all__ = ["pair_replan"]
+
+
+def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
+                before: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """New trajectories ``(τ_r, τ_b)`` (length ``horizon + 1``) of neighbours ``r`` and ``b``
+    (pair ``k`` of the problem, ``side`` = ``r``'s) planned together (module docstring), if
+    both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
+    plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured)."""
+    npos, n_opt, n_single = len(rp.pos), len(rp.deltas), rp.n_single
+    problem = rp.problem
+    sim = rp.tables.simultaneous(k)
+    dist = rp.tables.distances(k)
+    if side == 1:  # [u_r, v_b, i_r, j_b]
+        sim, dist = np.transpose(sim, (1, 0, 3, 2)), dist.T
+    bsum = float(problem.buffers[r] + problem.buffers[b])
+
+    known = rp.merged_cache.setdefault(("pair", k, side), np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8))
+
+    deltas = np.asarray(rp.deltas)
+
+    def pair_free(u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
+        """Is ``r`` doing ``u`` from ``ii`` while ``b`` does ``v`` from ``jj`` free (entries)?"""
+        single = (u < n_single) & (v < n_single)
+        state = np.where(single, np.where(sim[np.minimum(u, n_single - 1), np.minimum(v, n_single - 1), ii, jj], 2, 1),
+                         known[u, v, ii, jj])  # 0: not computed yet, 1 free, 2 collides
+        todo = np.nonzero(state == 0)[0]
+        if len(todo):
+            hit = prefiltered_motion_collides(problem.kin(r), problem.bases[r], rp.pos, ii[todo], rp.nxt[u[todo], ii[todo]],
+                                              deltas[u[todo]], problem.kin(b), problem.bases[b], jj[todo],
+                                              rp.nxt[v[todo], jj[todo]], deltas[v[todo]], bsum, dist)
+            state[todo] = np.where(hit, 2, 1)
+            known[u[todo], v[todo], ii[todo], jj[todo]] = state[todo]  # kept for the pair's next calls
+        return state == 1
+
+    goals = [int(rp.kin.flat_index(rp.problem.target[x])) for x in (r, b)]
+    saved = set(rp.absent)
+    try:
+        rp.absent = saved | {b}
+        stay_r = rp.stay_from(r, goals[0], horizon)
+        masks_r = [[rp.allowed_mask(r, t, u) for u in range(n_opt)] for t in range(horizon)]
+        rp.absent = saved | {r}
+        stay_b = rp.stay_from(b, goals[1], horizon)
+        masks_b = [[rp.allowed_mask(b, t, v) for v in range(n_opt)] for t in range(horizon)]
+    finally:
+        rp.absent = saved
+    reach = np.zeros((npos, npos), dtype=bool)
+    reach[int(rp.traj[0, r]), int(rp.traj[0, b])] = True
+    parents: list[np.ndarray] = []
+    for t in range(min(before, horizon + 1)):
+        if reach[goals[0], goals[1]] and stay_r[t] and stay_b[t]:
+            break
+        if t == horizon:
+            return None
+        par = np.full(npos * npos, -1, dtype=np.int64)
+        new = np.zeros(npos * npos, dtype=bool)
+        parts = []
+        for u in range(n_opt):
+            from_r = reach & masks_r[t][u][:, None]
+            if from_r.any():
+                for v in range(n_opt):
+                    ii, jj = np.nonzero(from_r & masks_b[t][v][None, :])
+                    parts.append((np.full(len(ii), u), np.full(len(ii), v), ii, jj))
+        if parts:
+            uu, vv, ii, jj = (np.concatenate(x) for x in zip(*parts))
+            free = pair_free(uu, vv, ii, jj)
+            uu, vv, ii, jj = uu[free], vv[free], ii[free], jj[free]
+            dst = rp.nxt[uu, ii] * npos + rp.nxt[vv, jj]
+            first = np.unique(dst, return_index=True)[1]  # one parent per state: the first in option order
+            par[dst[first]] = (ii * npos + jj)[first]
+            new[dst] = True
+        parents.append(par)
+        reach = new.reshape(npos, npos)
+        if not reach.any():
+            return None
+    else:
+        return None
+    path = [goals[0] * npos + goals[1]]
+    for par in reversed(parents):
+        path.append(int(par[path[-1]]))
+    path.reverse()
+    arrival = len(parents)
+    out = []
+    for x, column in ((r, np.asarray(path) // npos), (b, np.asarray(path) % npos)):
+        traj = rp.traj[:, x].copy()
+        traj[:arrival + 1] = column
+        traj[arrival + 1:] = column[-1]
+        out.append(traj)
+    return out[0], out[1]
