@@ -574,12 +574,12 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
 
 
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("kind,seed", [("rot", 7), ("ab", 3)])
+@pytest.mark.parametrize("kind,seed", [("ab", 8)])
 def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeypatch):
     """Where no group of the latest robot with its latest neighbours arrives earlier, a group
     with the neighbours in the way of its path without neighbours does (seeds where that
     happens): the plan is valid and shorter than without those groups."""
-    from supcoord.planning.improve import _Replanner
+    from supcoord.planning import improve as improve_module
 
     kin = ROT if kind == "rot" else AB_SDSS
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
@@ -588,7 +588,7 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
     assert stats["improved_with_blockers"] >= 1
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]
-    monkeypatch.setattr(_Replanner, "blockers", lambda self, r, horizon: [])
+    monkeypatch.setattr(improve_module, "_blocker_groups", lambda r, blockers, tried: [])
     without, stats_without = improve_plan(p, plan.configurations)
     assert stats_without["improved_with_blockers"] == 0 and len(confs) < len(without)
 
@@ -601,6 +601,7 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
     space-time) they do (seeds where that happens); the plan is valid, starts at the start,
     ends at the target, and is shorter than without the joint re-plan."""
     from supcoord.planning.improve import _Replanner
+    from supcoord.problems.plan import lower_bound
 
     kin = ROT if kind == "rot" else AB_SDSS
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
@@ -609,6 +610,12 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
     assert stats["improved_with_pairs"] >= 1
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]
+    if (kind, seed) == ("rot", 9):  # down to the largest joint distance, where improvement stops
+        assert len(confs) - 1 == lower_bound(p) == 6
+        again, stats_again = improve_plan(p, confs)  # nothing left to gain: no work at all
+        assert len(again) == len(confs) and stats_again["replans"] == 0
+        idle, _ = improve_plan(p, confs + [confs[-1]])  # one step above the bound: improved down to it
+        assert len(idle) == len(confs)
     monkeypatch.setattr(_Replanner, "replan_pair", lambda self, r, q, horizon: False)
     without, _ = improve_plan(p, plan.configurations)
     assert len(confs) < len(without)

@@ -5,7 +5,7 @@ guarded by the collision tables (:mod:`.guards`), its variables ordered along th
 conflict graph (:mod:`.graph_order`); :func:`solve` runs the seed paper's supcon +
 forcibility on it, on the whole grid (``route="monolithic"``) or in exact windows
 (``route="local"``: :mod:`.descent`, :mod:`.search`, :mod:`.windows`), then schedules
-(:mod:`.schedule`) and shortens (:mod:`.improve`) the plan; :mod:`.optimum` computes the
+(:mod:`.schedule`) and shortens (:mod:`.improve`, :mod:`.pair_replan`) the plan; :mod:`.optimum` computes the
 optimal makespan of small problems.
 """
 

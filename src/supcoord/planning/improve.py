@@ -21,9 +21,10 @@ The new trajectory replaces the old when it arrives earlier; since every other
 trajectory is unchanged and each of ``r``'s steps was checked against the others'
 motion in that very step, the plan stays valid — and it still starts at the start and
 ends at the target.  Rounds go over the positioners in order of decreasing ``f_r``
-(the ones that set the makespan first) until a round improves nothing or the work
-budget (a number of re-plannings, never seconds: the same input gives the same plan on
-any machine) runs out; trailing steps in which nothing moves are dropped.
+(the ones that set the makespan first) until a round improves nothing, the plan is as
+short as the largest joint distance from start to target (no plan is shorter), or the
+work budget (a number of re-plannings, never seconds: the same input gives the same plan
+on any machine) runs out; trailing steps in which nothing moves are dropped.
 
 A *group* re-plan takes the positioner ``r`` and some neighbours out (its latest ones;
 failing those, the ones in the way of ``r``'s earliest arrival without neighbours), re-plans
@@ -53,6 +54,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..geometry.motion import prefiltered_motion_collides
+from ..problems.plan import lower_bound
 from ..problems.problem import Problem
 from .guards import conflict_graph, pair_graph, successor_table
 from .pair_replan import pair_replan
@@ -292,10 +294,11 @@ class _Replanner:
         self.set_trajectory(q, new[1])
         return True
 
-    def round(self, max_replans: int, check: Callable[[], None] | None = None) -> bool:
+    def round(self, max_replans: int, check: Callable[[], None] | None = None, wide: bool = False) -> bool:
         """One round over the positioners that set the makespan, latest first (groups of
-        one to three with their latest neighbours, then of up to five with the neighbours in
-        its way); trailing idle steps dropped.  Did it improve anything?"""
+        one to three with their latest neighbours; ``wide``: groups of up to five with the
+        neighbours in its way, then a neighbour in its way re-planned with it together);
+        trailing idle steps dropped.  Did it improve anything?"""
         improved = False
         horizon = len(self.traj) - 1
         finish = self.finish
@@ -308,9 +311,10 @@ class _Replanner:
                 break  # only the positioners that set the makespan
             late = sorted((q for _, q, _ in self.nbrs[r] if finish(q) > 0), key=lambda q: (-finish(q), q))
             groups = [[r], [r] + late[:1], [r] + late[:2], late[:2] + [r]]
-            if self._first_group(groups, horizon):
-                self.stats["improved"] += 1
-                improved = True
+            if not wide:
+                if self._first_group(groups, horizon):
+                    self.stats["improved"] += 1
+                    improved = True
                 continue
             blockers = self.blockers(r, horizon)
             if self._first_group(_blocker_groups(r, blockers, groups), horizon):
@@ -354,8 +358,10 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
                              "max_replans": int(max_replans)}
     rp = _Replanner(problem, confs, stats)
     improved = True
-    while improved and stats["replans"] < max_replans:
-        improved = rp.round(max_replans, check)
+    floor = lower_bound(problem)  # no plan is shorter: nothing left to gain
+    while improved and stats["replans"] < max_replans and len(rp.traj) - 1 > floor:
+        # the wide groups only where the narrow ones are stuck
+        improved = rp.round(max_replans, check) or rp.round(max_replans, check, wide=True)
     stats["makespan_after"] = len(rp.traj) - 1
     stats["seconds"] = time.perf_counter() - t0
     out = [rp.pos[row] for row in rp.traj]
