@@ -573,6 +573,18 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
     assert checked >= p.n * 2 * 9
 
 
+def _improved_valid(kind, seed):
+    """A random two-ring problem, its plan without improvement, and the improved plan, checked
+    to start at the start, end at the target and pass the validator."""
+    kin = ROT if kind == "rot" else AB_SDSS
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
+    plan = solve(p, improve=0, refine=False)
+    confs, stats = improve_plan(p, plan.configurations)
+    assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
+    assert validate_plan(p, Plan("complete", confs))["valid"]
+    return p, plan, confs, stats
+
+
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("kind,seed", [("ab", 8)])
 def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeypatch):
@@ -581,13 +593,8 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
     happens): the plan is valid and shorter than without those groups."""
     from supcoord.planning import improve as improve_module
 
-    kin = ROT if kind == "rot" else AB_SDSS
-    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
-    plan = solve(p, improve=0, refine=False)
-    confs, stats = improve_plan(p, plan.configurations)
+    p, plan, confs, stats = _improved_valid(kind, seed)
     assert stats["improved_with_blockers"] >= 1
-    assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
     monkeypatch.setattr(improve_module, "_blocker_groups", lambda r, blockers, tried: [])
     without, stats_without = improve_plan(p, plan.configurations)
     assert stats_without["improved_with_blockers"] == 0 and len(confs) < len(without)
@@ -603,13 +610,8 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
     from supcoord.planning.improve import _Replanner
     from supcoord.problems.plan import lower_bound
 
-    kin = ROT if kind == "rot" else AB_SDSS
-    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
-    plan = solve(p, improve=0, refine=False)
-    confs, stats = improve_plan(p, plan.configurations)
+    p, plan, confs, stats = _improved_valid(kind, seed)
     assert stats["improved_with_pairs"] >= 1
-    assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
     if (kind, seed) == ("rot", 9):  # down to the largest joint distance, where improvement stops
         assert len(confs) - 1 == lower_bound(p) == 6
         again, stats_again = improve_plan(p, confs)  # nothing left to gain: no work at all
