@@ -333,7 +333,7 @@ class _Replanner:
 def _blocker_groups(r: int, blockers: list[int], tried: list[list[int]]) -> list[list[int]]:
     """Groups of ``r`` with the neighbours in its way (:meth:`_Replanner.blockers`), ``r``
     first or last, that are not among ``tried``."""
-    b = blockers
+    b = blockers  # short for the table of groups below
     out: list[list[int]] = []
     for g in ([r] + b[:1], [r] + b[:2], [r] + b[:3], [r] + b[:4], b[:2] + [r], b[:3] + [r]):
         if len(g) > 1 and g not in tried and g not in out:

@@ -12,11 +12,10 @@ give way to each other.  With ``τ_q`` the fixed trajectories of every other pos
               (and its own constraints), likewise b doing v from j,
               and r doing u from i while b does v from j is free}
 
-(the last test is the pair's simultaneous table,
-:meth:`~supcoord.geometry.collision.CollisionTables.simultaneous`, where each turns at most
-one joint, else the certified motion
-:func:`~supcoord.geometry.motion.prefiltered_motion_collides` for the states reached: both
-moving linearly over the same step, the validator's interpolation); the pair's new trajectories are the
+(the last test is the certified motion
+:func:`~supcoord.geometry.motion.prefiltered_motion_collides`, computed for the states
+reached only and kept for the pair: both moving linearly over the same step, the
+validator's interpolation, exact where one turns one joint past the other standing); the pair's new trajectories are the
 earliest ``t`` with ``(target_r, target_b) ∈ R(t)`` from which both may stand at their
 targets to the plan's end, read back through the parents of each layer.  Each step of
 either was checked against every other trajectory of the plan in that very step and
@@ -46,30 +45,26 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     (pair ``k`` of the problem, ``side`` = ``r``'s) planned together (module docstring), if
     both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
     plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured)."""
-    npos, n_opt, n_single = len(rp.pos), len(rp.deltas), rp.n_single
+    npos, n_opt = len(rp.pos), len(rp.deltas)
     problem = rp.problem
-    sim = rp.tables.simultaneous(k)
     dist = rp.tables.distances(k)
-    if side == 1:  # [u_r, v_b, i_r, j_b]
-        sim, dist = np.transpose(sim, (1, 0, 3, 2)), dist.T
+    dist = dist if side == 0 else dist.T  # [position of r, position of b]
     bsum = float(problem.buffers[r] + problem.buffers[b])
-
-    known = rp.merged_cache.setdefault(("pair", k, side), np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8))
-
     deltas = np.asarray(rp.deltas)
+    known = rp.merged_cache.get(("pair", k, side))  # 0: not computed yet, 1 free, 2 collides
+    if known is None:  # kept for the pair's next calls
+        known = rp.merged_cache["pair", k, side] = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
 
     def pair_free(u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
         """Is ``r`` doing ``u`` from ``ii`` while ``b`` does ``v`` from ``jj`` free (entries)?"""
-        single = (u < n_single) & (v < n_single)
-        state = np.where(single, np.where(sim[np.minimum(u, n_single - 1), np.minimum(v, n_single - 1), ii, jj], 2, 1),
-                         known[u, v, ii, jj])  # 0: not computed yet, 1 free, 2 collides
+        state = known[u, v, ii, jj]
         todo = np.nonzero(state == 0)[0]
         if len(todo):
-            hit = prefiltered_motion_collides(problem.kin(r), problem.bases[r], rp.pos, ii[todo], rp.nxt[u[todo], ii[todo]],
-                                              deltas[u[todo]], problem.kin(b), problem.bases[b], jj[todo],
-                                              rp.nxt[v[todo], jj[todo]], deltas[v[todo]], bsum, dist)
-            state[todo] = np.where(hit, 2, 1)
-            known[u[todo], v[todo], ii[todo], jj[todo]] = state[todo]  # kept for the pair's next calls
+            u, v, ii, jj = u[todo], v[todo], ii[todo], jj[todo]
+            hit = prefiltered_motion_collides(problem.kin(r), problem.bases[r], rp.pos, ii, rp.nxt[u, ii], deltas[u],
+                                              problem.kin(b), problem.bases[b], jj, rp.nxt[v, jj], deltas[v], bsum,
+                                              dist)
+            state[todo] = known[u, v, ii, jj] = np.where(hit, 2, 1)
         return state == 1
 
     goals = [int(rp.kin.flat_index(rp.problem.target[x])) for x in (r, b)]
