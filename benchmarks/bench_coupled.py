@@ -19,11 +19,15 @@ builds ``G`` and ``allevents(G) || S``, runs ``supcon`` and ``ccc(full=False)`` 
 - the results, which must not depend on the order: states, transitions, marked, CCC,
   rank, witness length.
 
-Each point runs under one fixpoint variant (``--variants``): ``new`` (default
-saturation: write groups fired by their local transitive closure,
-:data:`supcoord.synthesis.reachability.LOCAL_CLOSURES`) and ``old`` (saturation over the
-plain event steps, the code before this change), so one run compares both on the same
-machine and load; the results must be equal under every variant and order.
+Each point runs under one variant (``--variants``): ``new`` (default saturation: write
+groups fired by their local transitive closure,
+:data:`supcoord.synthesis.reachability.LOCAL_CLOSURES`), ``old`` (saturation over the
+plain event steps, the code before that change), and ``whole`` (what ``supcoord paper
+--model coupled`` runs: ``supcon(..., accessible=False)``, the supervisor on the whole
+state space without ``Reach``, and CCC on it; the trim supervisor's sizes are then
+counted, column ``count``, only up to ``AUTO_COUNT_COUPLED`` positioners), so one run
+compares them on the same machine and load; the results must be equal under every
+variant and order.
 
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
@@ -50,9 +54,9 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SIZES = [3, 4, 5, 6, 7, 19, 37]
+SIZES = [3, 4, 5, 6, 7, 8, 19, 37]
 ORDERS = ["layout", "auto"]
-VARIANTS = ["old", "new"]
+VARIANTS = ["old", "new", "whole"]
 STEPS = 8
 MEMORY = 6 * 2**30
 
@@ -69,12 +73,12 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     """One point; prints ``P {...}`` progress lines and a final ``R {...}`` line."""
     from supcoord.bdd import Context
     from supcoord.paper.coupled import CoupledModel, coupled_models, positioner_order
-    from supcoord.paper.run import coupled_instance
-    from supcoord.synthesis import ccc, supcon
+    from supcoord.paper.run import AUTO_COUNT_COUPLED, coupled_instance
+    from supcoord.synthesis import accessible_part, ccc, supcon
     from supcoord.synthesis import reachability as R
     from supcoord.synthesis.product import product
 
-    R.LOCAL_CLOSURES = variant == "new"  # "old": saturation over the plain event steps
+    R.LOCAL_CLOSURES = variant != "old"  # "old": saturation over the plain event steps
     Context()  # load dd.cudd before timing
     t0 = time.perf_counter()
     last = {"stage": "build"}
@@ -107,19 +111,24 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
 
     R._fixpoint = timed
     with R.ImageProfile(nodes=nodes) as prof:
-        res = supcon(G, E, count_transitions=True)
+        res = supcon(G, E, count_transitions=True, accessible=variant != "whole")
         t2 = time.perf_counter()
         images_supcon = prof.as_dict()
         _emit("P", {"stage": "ccc", "at": round(t2 - t0, 2), "rss_mb": _rss_mb()})
         c = ccc(res.supervisor, "preemptive", full=False)
-    R._fixpoint = original
     t3 = time.perf_counter()
+    if variant == "whole" and size <= AUTO_COUNT_COUPLED:
+        _emit("P", {"stage": "count", "at": round(t3 - t0, 2), "rss_mb": _rss_mb()})
+        res = accessible_part(res)
+    R._fixpoint = original
+    t4 = time.perf_counter()
     st = res.stats
     out = {
         "size": size, "steps": steps, "seed": seed, "order": order, "variant": variant, "positioner_order": positioner_order(model, order),
         "states": st["states"], "transitions": st["transitions"], "marked": st["marked"], "ccc": c.forcible,
         "rank": c.rank, "witness_length": len(c.witness), "witness": c.witness,
-        "seconds": round(t3 - t0, 3), "build": round(t1 - t0, 3), "supcon": round(t2 - t1, 3),
+        "seconds": round(t4 - t0, 3), "build": round(t1 - t0, 3), "supcon": round(t2 - t1, 3),
+        "count": round(t4 - t3, 3) if variant == "whole" else None,
         "reach": round(fix["reach"], 3), "coreach": round(fix["coreach"] + fix.get("reach_within", 0.0), 3),
         "ccc_seconds": round(t3 - t2, 3), "ccc_layers": c.stats.get("iterations"),
         "clusters": clusters, "profile_supcon": images_supcon,
@@ -195,7 +204,7 @@ def _fmt(v) -> str:
 
 
 def table(rows: list[dict]) -> str:
-    head = ["N", "order", "variant", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "images",
+    head = ["N", "order", "variant", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
             "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
             "transitions", "rank", "equal to explicit / libFAUDES"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -209,7 +218,7 @@ def table(rows: list[dict]) -> str:
             eq = f"{'yes' if r['explicit_equal'] else 'NO'} ({r['explicit_seconds']} s) / " \
                  f"{'yes' if r['faudes_equal'] else 'NO'} ({r['faudes_seconds']} s)"
         cells = [r["size"], r["order"], r.get("variant", "new"), status, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
-                 r.get("supcon"), r.get("ccc_seconds"), prof.get("images"), prof.get("image_seconds"),
+                 r.get("supcon"), r.get("ccc_seconds"), r.get("count"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
                  r.get("transitions"), r.get("rank"), eq]
@@ -233,7 +242,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sizes", type=int, nargs="+", default=SIZES)
     ap.add_argument("--orders", nargs="+", default=ORDERS, choices=["layout", "auto", "bandwidth"])
     ap.add_argument("--variants", nargs="+", default=VARIANTS, choices=VARIANTS,
-                    help="fixpoint variants to compare (old: plain event steps; new: local closures)")
+                    help="variants to compare (old: plain event steps; new: local closures; whole: supervisor "
+                         "without Reach, as supcoord paper runs)")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--check", action="store_true", help="compare with the explicit twin and libFAUDES (N <= 4)")
@@ -281,11 +291,14 @@ def main(argv: list[str] | None = None) -> int:
                 f"seed {args.seed}.\n\n")
         f.write(text + "\n\n" + agree + "\n\n")
         f.write("Columns: `variant` = `old` (saturation over the plain event steps, the code before the local "
-                "closures) or `new` (write groups fired by their local transitive closure, closures computed "
-                "inside `reach`); seconds are inside the worker (imports excluded): `build` = instance, geometry "
+                "closures), `new` (write groups fired by their local transitive closure, closures computed "
+                "inside `reach`) or `whole` (`new`, with the supervisor computed on the whole state space "
+                "without `Reach` and CCC on it: what `supcoord paper --model coupled` runs); seconds are inside "
+                "the worker (imports excluded): `build` = instance, geometry "
                 "tables and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
                 "fixpoints; `supcon` = all of supcon including exact counts; `ccc` = forcibility layers up to "
-                "`q0` and the witness.  `images`, `image s`, `max operand` profile the images of supcon's "
+                "`q0` and the witness; `count` (`whole` only) = the trim supervisor and its exact sizes, computed "
+                "after CCC up to 6 positioners.  `images`, `image s`, `max operand` profile the images of supcon's "
                 "fixpoints (`ImageProfile`; `max operand` only with `--nodes`).  `clusters` = saturation's "
                 "event clusters of the plain steps (1 = saturation degenerates into chaining).  `reach nodes` = BDD of the "
                 "reachable set; `V nodes` = supervisor (relations included); `peak nodes` = CUDD's peak of "
@@ -306,10 +319,14 @@ def _agreement(rows: list[dict]) -> str:
             by.setdefault(r["size"], []).append(r)
     lines = []
     for size, rs in sorted(by.items()):
-        if len(rs) > 1:
-            same = all(all(r[k] == rs[0][k] for k in keys) for r in rs[1:])
+        if len(rs) > 1:  # (a supervisor left uncounted has sizes None: compared where both counted)
+            same = all(all(r[k] == rs[0][k] for k in keys if r[k] is not None and rs[0][k] is not None)
+                       for r in rs[1:])
+            counted = all(r["states"] is not None for r in rs)
+            what = "states, transitions, marked, CCC, rank and witness" if counted else \
+                "CCC, rank and witness (sizes where counted)"
             lines.append(f"N = {size}: {' and '.join(r['order'] + '/' + r.get('variant', 'new') for r in rs)} give "
-                         f"{'the same' if same else 'DIFFERENT'} states, transitions, marked, CCC, rank and witness")
+                         f"{'the same' if same else 'DIFFERENT'} {what}")
     return "\n".join(lines) or "no size finished under two orders"
 
 

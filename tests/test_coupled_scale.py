@@ -116,6 +116,31 @@ def test_run_paper_coupled_uses_the_bandwidth_order_and_the_same_answers():
     assert r.payload["supervisor_states"] == _results(_model(4, 6), "layout")[0]
 
 
+@pytest.mark.parametrize("size, seed", [(3, 0), (4, 1), (5, 0)])
+def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeypatch):
+    """The coupled route synthesizes V without Reach and runs CCC on it: the verdict,
+    rank and witness of the trim supervisor; its sizes are counted up to
+    AUTO_COUNT_COUPLED positioners (or on request) and equal the trim supervisor's."""
+    import supcoord.paper.run as run
+
+    counted = run_paper(size, 6, model="coupled", seed=seed)
+    trim = _results(_model(size, 6, seed), "auto")
+    assert counted.payload["counted"] is True and counted.supcon.stats["accessible"] is True
+    assert (counted.payload["supervisor_states"], counted.payload["supervisor_transitions"],
+            counted.payload["supervisor_marked"]) == trim[:3]
+    assert (counted.payload["ccc"], counted.payload["rank"], tuple(counted.payload["witness"])) == trim[3:]
+    assert counted.supervisor.count_states() == trim[0]
+    monkeypatch.setattr(run, "AUTO_COUNT_COUPLED", size - 1)
+    quick = run_paper(size, 6, model="coupled", seed=seed)
+    assert quick.payload["counted"] is False and quick.payload["supervisor_states"] is None
+    assert quick.payload["supervisor_states_log10"] is None and quick.payload["timings"]["count"] == 0
+    assert (quick.payload["ccc"], quick.payload["rank"], quick.payload["witness"]) == (
+        counted.payload["ccc"], counted.payload["rank"], counted.payload["witness"])
+    assert quick.supervisor.count_states() >= trim[0]  # unreachable states kept
+    asked = run_paper(size, 6, model="coupled", seed=seed, count_states=True)
+    assert asked.payload["supervisor_states"] == trim[0]
+
+
 def test_image_profile_counts_the_images_and_changes_nothing():
     model = _model(4, 6)
     ctx = Context()

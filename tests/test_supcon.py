@@ -16,6 +16,8 @@ from supcoord.des.symbolic import EventRelation, SymbolicGenerator, from_explici
 from supcoord.errors import AlphabetError, InputError, NondeterminismError
 from supcoord.synthesis import (
     METHODS,
+    accessible_part,
+    ccc,
     check_deterministic,
     is_controllable,
     is_controllable_naive,
@@ -25,6 +27,7 @@ from supcoord.synthesis import (
     supcon,
     supcon_naive,
 )
+from supcoord.synthesis.forcibility import SEMANTICS
 
 
 def raised(exc_type, fn, *args, **kwargs):
@@ -94,6 +97,44 @@ def test_tct_meaning_disables_missing_events(system, method):
     ctx = Context()
     result = supcon(symbolic(ctx, plants), symbolic(ctx, specs), method=method)
     assert to_explicit(result.supervisor).same_as(oracle)
+
+
+def test_supervisor_without_the_reachable_set_has_the_same_languages_and_forcibility():
+    """``supcon(accessible=False)`` (the fixpoint on the whole state space) has the
+    reachable part libFAUDES's SupCon has, and CCC on it gives the trim supervisor's
+    verdict, rank and witness under both semantics; the cases run include supervisors
+    with unreachable controllable states (where the two differ) and both verdicts."""
+    seen: Counter = Counter()
+
+    @given(systems(), st.sampled_from(METHODS))
+    def check(system, method):
+        _, plants, specs = system
+        G, E = X.sync(*plants), X.sync(*specs)
+        oracle = faudes_supcon(G, over(G.alphabet, E))
+        ctx = Context()
+        Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
+        whole = supcon(Gs, Es, method=method, accessible=False)
+        assert whole.stats["accessible"] is False
+        assert (whole.stats["states"], whole.stats["transitions"], whole.stats["marked"]) == (None, None, None)
+        trim = accessible_part(whole, method=method)
+        assert to_explicit(trim.supervisor).same_as(oracle)
+        assert (trim.stats["states"], trim.stats["transitions"], trim.stats["marked"]) == (
+            oracle.n_states, oracle.n_transitions, len(oracle.marked))
+        ref = supcon(Gs, Es, method=method)
+        assert trim.supervisor.invariant == ref.supervisor.invariant and accessible_part(ref) is ref
+        for semantics in SEMANTICS:
+            a, b = ccc(whole.supervisor, semantics), ccc(ref.supervisor, semantics)
+            assert (a.forcible, a.rank, a.witness) == (b.forcible, b.rank, b.witness)
+            seen[f"forcible_{semantics}_{a.forcible}"] += 1
+        seen["cases"] += 1
+        seen["unreachable_kept"] += whole.supervisor.invariant != trim.supervisor.invariant
+        seen["nonempty"] += not ref.empty
+
+    check()
+    n = seen["cases"]
+    assert n >= 20, seen
+    assert seen["unreachable_kept"] >= n // 4 and seen["nonempty"] >= n // 4, seen
+    assert all(seen[f"forcible_{s}_{v}"] >= n // 20 for s in SEMANTICS for v in (True, False)), seen
 
 
 @settings(max_examples=100)

@@ -5,11 +5,13 @@ random starts and targets (start ≠ target), priorities = indices; builds ``G``
 ``allevents(G) || S``, synthesizes ``V`` symbolically and runs CCC (preemptive).
 The literal model defaults to the exact ``modular`` route (one small supcon per
 distinct positioner, Theorems 1–2 of :mod:`supcoord.paper.modular`); the
-coupled model has only the ``monolithic`` route.  The library function is
+coupled model has only the ``monolithic`` route; there ``V`` is synthesized without its
+reachable set and its exact sizes are counted up to 6 positioners (``--count-states``
+beyond; ``"counted"`` says whether they were).  The library function is
 :func:`supcoord.paper.run.solve_paper` (re-exported here).
 JSON: ``{"status", "positioners", "steps", "model", "route", "supervisor_states" (null beyond
 4000 digits: Python refuses longer integers), "supervisor_states_log10",
-"supervisor_transitions", "bdd_nodes", "ccc", "rank", "witness_length", "witness",
+"supervisor_transitions", "counted", "bdd_nodes", "ccc", "rank", "witness_length", "witness",
 "certificate", "seconds", "timings"}``.
 """
 
@@ -53,6 +55,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--semantics", choices=["preemptive", "standard"], default="preemptive", help="forcibility semantics")
     p.add_argument("--count-transitions", action="store_true",
                    help="exact transition count on the monolithic route even beyond 256 events (slow)")
+    p.add_argument("--count-states", action="store_true",
+                   help="coupled model: count the supervisor's reachable states even beyond 6 positioners "
+                        "(a reachability that takes longer than synthesis and CCC together)")
 
 
 def _magnitude(count: int | None, log10: float | None) -> str:
@@ -68,15 +73,19 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
     ctx = Context(args.backend, budget=budget_from_args(args), progress=console.progress)
     payload = solve_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
-                          route=args.route, count_transitions=True if args.count_transitions else None)
+                          route=args.route, count_transitions=True if args.count_transitions else None,
+                          count_states=True if args.count_states else None)
     t = payload["timings"]
     verdict = "forcible" if payload["ccc"] else "NOT forcible"
     if payload["ccc"]:
         verdict += f", witness of {payload['witness_length']} events"
     if payload.get("certificate"):
         verdict += f" ({payload['certificate']})"
+    states = (f"V has {_magnitude(payload['supervisor_states'], payload['supervisor_states_log10'])} states"
+              if payload["counted"] else "V's states not counted (--count-states)")
     text = (f"{payload['model']} model, {payload['route']} route, {payload['positioners']} positioners, "
-            f"{payload['steps']} steps (seed {payload['seed']}): V has {_magnitude(payload['supervisor_states'], payload['supervisor_states_log10'])} states, "
+            f"{payload['steps']} steps (seed {payload['seed']}): {states}, "
             f"{payload['bdd_nodes']} BDD nodes; CCC {verdict}; {payload['seconds']} s "
-            f"(build {t['build']}, supcon {t['supcon']}, ccc {t['ccc']})")
+            f"(build {t['build']}, supcon {t['supcon']}, ccc {t['ccc']}"
+            + (f", count {t['count']})" if t.get("count") else ")"))
     return CommandResult(payload, text)

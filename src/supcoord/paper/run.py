@@ -11,6 +11,11 @@ synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of two routes:
 - ``monolithic``: the generic :func:`~supcoord.synthesis.supcon` and
   :func:`~supcoord.synthesis.ccc` on the whole product (the only route for the coupled
   model, whose guards read the neighbours' positions, so no component is independent).
+  For the coupled model the supervisor is computed without the reachable set
+  (``supcon(..., accessible=False)``: same languages, same CCC verdict, rank and witness)
+  and CCC runs on it; the exact sizes of the trim supervisor need ``Reach``, the hard
+  set of this model, so they are counted (:func:`~supcoord.synthesis.accessible_part`)
+  only up to :data:`AUTO_COUNT_COUPLED` positioners unless asked for.
 
 Both return the same supervisor (same state-set BDD; ``tests/test_paper.py``).
 :func:`solve_paper` returns the JSON object of ``supcoord paper --json`` (docs/formats.md),
@@ -42,12 +47,12 @@ import numpy as np
 from ..bdd.context import Context
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
-from ..synthesis import CCCResult, SupconResult, ccc, supcon
+from ..synthesis import CCCResult, SupconResult, accessible_part, ccc, supcon
 from .coupled import CoupledModel, Geometry, coupled_models
 from .literal import PaperInstance, hex_neighbours, hex_sites, literal_models, random_instance
 from .modular import literal_modular
 
-__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "PaperRun", "run_paper", "solve_paper", "coupled_instance",
+__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "run_paper", "solve_paper", "coupled_instance",
            "default_route", "json_count", "log10_count"]
 
 MODELS = ("literal", "coupled")
@@ -56,6 +61,10 @@ ROUTES = ("modular", "monolithic")
 #: count walks one BDD per event: 20 of 25 s at 100 positioners); the modular route's
 #: count is a closed formula and always exact
 AUTO_COUNT_EVENTS = 256
+#: the coupled model's trim supervisor is counted only up to this many positioners:
+#: its reachable set took 7 s at 6 positioners and 69 s at 7, where the supervisor
+#: without it and CCC take 38 s (benchmarks/results/coupled.md)
+AUTO_COUNT_COUPLED = 6
 #: longest exact integer put into the JSON (Python's default int/str conversion limit is 4300)
 MAX_JSON_DIGITS = 4000
 
@@ -173,13 +182,16 @@ def _place(model: CoupledModel, orders: list[list[int]], max_tries: int) -> list
 def run_paper(positioners: int | None = None, steps: int | None = None, model: str = "literal", seed: int = 0,
               semantics: str = "preemptive", ctx: Context | None = None, *, route: str | None = None,
               instance: PaperInstance | None = None, geometry: Geometry | None = None,
-              count_transitions: bool | None = None) -> PaperRun:
+              count_transitions: bool | None = None, count_states: bool | None = None) -> PaperRun:
     """Build, synthesize and check the paper's model; see the module docstring.
 
     ``instance`` replaces the seeded random one (``positioners``/``steps`` are then taken
     from it); ``route`` defaults to :func:`default_route`; ``count_transitions`` (None:
     automatic) asks the monolithic route for the exact transition count even beyond
-    :data:`AUTO_COUNT_EVENTS` events.  A ``ctx`` with a budget makes the run raise
+    :data:`AUTO_COUNT_EVENTS` events; ``count_states`` (None: automatic) asks the coupled
+    model for the trim supervisor and its exact sizes even beyond
+    :data:`AUTO_COUNT_COUPLED` positioners (``payload["counted"]`` says whether they were
+    counted; ``supervisor`` is then the trim one).  A ``ctx`` with a budget makes the run raise
     :class:`~supcoord.errors.BudgetExceeded` when it runs out.
     """
     if model not in MODELS:
@@ -198,6 +210,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     elif not isinstance(instance, PaperInstance):
         raise InputError(f"instance must be a PaperInstance, got {type(instance).__name__}", value=instance)
     t0 = time.perf_counter()
+    counting = 0.0  # seconds spent on the trim supervisor's exact sizes after CCC
     ctx = ctx or Context()
     if model == "literal":
         inst = instance or random_instance(positioners, steps, seed)
@@ -216,9 +229,14 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
             G, E = coupled_models(cm, ctx)
         t1 = time.perf_counter()
         count = len(G.events) <= AUTO_COUNT_EVENTS if count_transitions is None else bool(count_transitions)
-        res = supcon(G, E, count_transitions=count)
+        whole = model == "coupled"  # the supervisor without Reach (module docstring)
+        res = supcon(G, E, count_transitions=count, accessible=not whole)
         t2 = time.perf_counter()
         c = ccc(res.supervisor, semantics, full=False)
+        if whole and (inst.size <= AUTO_COUNT_COUPLED if count_states is None else count_states):
+            t_count = time.perf_counter()
+            res = accessible_part(res, count_transitions=count)
+            counting = time.perf_counter() - t_count
     t3 = time.perf_counter()
     payload = {
         "status": "ok",
@@ -232,6 +250,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         "supervisor_states_log10": log10_count(res.stats["states"]),
         "supervisor_transitions": json_count(res.stats["transitions"]),
         "supervisor_marked": json_count(res.stats["marked"]),
+        "counted": res.stats.get("accessible", True),
         "bdd_nodes": res.stats["bdd_nodes"],
         "ccc": c.forcible,
         "rank": c.rank,
@@ -239,8 +258,8 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         "witness": list(c.witness),
         "certificate": c.stats.get("certificate"),
         "seconds": round(t3 - t0, 4),
-        "timings": {"build": round(t1 - t0, 4), "supcon": round(t2 - t1, 4), "ccc": round(t3 - t2, 4),
-                    "supcon_iterations": res.stats.get("iterations")},
+        "timings": {"build": round(t1 - t0, 4), "supcon": round(t2 - t1, 4), "ccc": round(t3 - t2 - counting, 4),
+                    "count": round(counting, 4), "supcon_iterations": res.stats.get("iterations")},
     }
     if route == "modular":
         payload["distinct_components"] = res.stats["distinct_components"]

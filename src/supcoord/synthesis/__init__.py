@@ -23,7 +23,7 @@ from .reachability import (
     trim,
     trim_naive,
 )
-from .supcon import SupconResult, lift_spec, product, product_naive, supcon, supcon_naive
+from .supcon import SupconResult, accessible_part, lift_spec, product, product_naive, supcon, supcon_naive
 from .witness import forcing_paths, strategy, witness
 
 __all__ = [
@@ -52,6 +52,7 @@ __all__ = [
     "reachable_naive",
     "strategy",
     "supcon",
+    "accessible_part",
     "supcon_naive",
     "trim",
     "trim_naive",

@@ -21,6 +21,19 @@ undefined where ``σ ∉ Σ_E``):
 - the supervisor is ``P`` restricted to ``Z`` (empty when ``q0 ∉ Z``); it is trim and
   ``Lm(supervisor) = sup C(Lm(G) ∩ Lm(E))``, ``L(supervisor)`` its prefix closure.
 
+**Without the reachable set** (``accessible=False``).  The loop's operator reads only
+the future of a state (its paths to ``Qm``, its uncontrollable successors), so on any
+set ``A`` closed under successors its greatest fixpoint is the one on the whole state
+space restricted to ``A``: ``Z_A = Z_Q ∩ A``.  With ``A = Reach(P)``, the supervisor
+computed on ``Q_P \ B0`` without any forward search, ``P`` restricted to ``Z_Q``, has
+the same initial state, the same reachable part and so the same languages; only its
+unreachable states differ, and its exact sizes need :func:`accessible_part`.  This pays
+where ``Reach(P)`` is the hard set: in the coupled paper model a positioner's collision
+level remembers its neighbours' past, so ``Reach(P)`` takes 117,184 BDD nodes at
+7 positioners, the controllable set over all states 2,012 (``docs/paper.md``).
+Forcibility from ``q0`` is decided identically on both (:mod:`.forcibility` reads
+successors only).
+
 The command line follows libFAUDES's convention instead: a specification is first
 lifted to the plant alphabet by self-loops (:func:`lift_spec`, ``InvProject``), then
 ``supcon`` is called.  :func:`supcon_naive` is the explicit twin.  :func:`supcon_flat`
@@ -69,8 +82,8 @@ from .product import (
 )
 from .reachability import DEFAULT_METHOD, coreachable, coreachable_naive, reachable, reachable_naive
 
-__all__ = ["SupconResult", "supcon", "supcon_naive", "supcon_flat", "lift_spec", "product", "product_naive",
-           "check_alphabets"]
+__all__ = ["SupconResult", "supcon", "accessible_part", "supcon_naive", "supcon_flat", "lift_spec", "product",
+           "product_naive", "check_alphabets"]
 
 
 @dataclass
@@ -105,13 +118,19 @@ def lift_spec(plant, E, name: str | None = None):
 
 
 def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", method: str = DEFAULT_METHOD,
-           count_transitions: bool = True) -> SupconResult:
+           count_transitions: bool = True, accessible: bool = True) -> SupconResult:
     """The supremal controllable and nonblocking supervisor of ``G`` for ``E`` (TCT meaning).
 
     ``count_transitions=False`` leaves ``stats["transitions"]`` as ``None``: the exact
     count ``Σ_σ |Z ∩ En_σ|`` takes one ``Pre`` and one count per event, a noticeable
     share of the run time of products with thousands of events.  ``stats["iterations"]``
     counts the passes of the nonblocking/controllability loop.
+
+    ``accessible=False`` computes the supervisor on the whole state space, without
+    ``Reach(P)`` (module docstring): the same languages, initial state and reachable
+    part, but unreachable states too, so ``stats`` leaves ``states``, ``transitions`` and
+    ``marked`` as ``None`` (``stats["accessible"]`` says which); :func:`accessible_part`
+    gives the trim supervisor and its counts.
 
     Raises :class:`~supcoord.errors.AlphabetError` (see :func:`check_alphabets`) and
     :class:`~supcoord.errors.NondeterminismError` for a nondeterministic ``G`` or ``E``."""
@@ -121,27 +140,52 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
     check_deterministic(G)
     check_deterministic(E)
     unc = P.uncontrollable
-    r0 = reachable(P, method=method)  # Reach(P)
-    z = r0 & ~uncontrollable_blocked(G, P)  # Reach(P) \ B0
+    universe = reachable(P, method=method) if accessible else P.invariant  # Reach(P), or Q_P
+    z = universe & ~uncontrollable_blocked(G, P)  # universe \ B0
     zold, i = None, 0
     while z != zold:  # until the controllability step removes nothing
-        zold = coreachable(P, P.marked & z, within=z, method=method)  # Z ∩ CoReach_Z(Qm)
-        z = zold & ~coreachable(P, r0 & ~zold, within=r0, method=method, events=unc)  # Z \ UPre*(¬Z)
+        inside = None if z == P.invariant else z  # (unconstrained: saturation may use its local closures)
+        zold = coreachable(P, P.marked & z, within=inside, method=method)  # Z ∩ CoReach_Z(Qm)
+        bad = universe & ~zold
+        z = zold & ~coreachable(P, bad, within=universe, method=method, events=unc)  # Z \ UPre*(¬Z)
         i += 1
         ctx.check_budget("supcon", iteration=i, z_nodes=ctx.node_count(z))
-    if z != r0:  # (Z = Reach(P) is its own Reach_Z(q0))
+    if accessible and z != universe:  # (Z = Reach(P) is its own Reach_Z(q0))
         z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
     V = P.restrict(z, name)
-    stats = {
-        "states": V.count_states(),
-        "transitions": V.count_transitions() if count_transitions else None,
-        "marked": ctx.count(V.marked, V.variables),
-        "bdd_nodes": V.node_count(),
-        "set_nodes": ctx.node_count(z),
-        "iterations": i,
-        "seconds": time.perf_counter() - t0,
-    }
+    stats = {"iterations": i, **_counts(V, count_transitions, accessible)}
+    stats["seconds"] = time.perf_counter() - t0
     return SupconResult(V, stats)
+
+
+def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> dict[str, Any]:
+    """The sizes of a supervisor; exact counts only for an accessible one."""
+    ctx = V.ctx
+    return {
+        "states": V.count_states() if accessible else None,
+        "transitions": V.count_transitions() if accessible and count_transitions else None,
+        "marked": ctx.count(V.marked, V.variables) if accessible else None,
+        "bdd_nodes": V.node_count(),
+        "set_nodes": ctx.node_count(V.invariant),
+        "accessible": accessible,
+    }
+
+
+def accessible_part(result: SupconResult, *, method: str = DEFAULT_METHOD,
+                    count_transitions: bool = True) -> SupconResult:
+    """The trim supervisor of a :func:`supcon` result computed with ``accessible=False``:
+    its states reachable from ``q0`` (``Reach_Z(q0)``), with the exact counts; the
+    result of ``supcon(G, E)`` itself.  An accessible result is returned as it is."""
+    if result.stats.get("accessible", True):
+        return result
+    t0 = time.perf_counter()
+    V = result.supervisor
+    z = reachable(V, V.init, method=method)  # Reach_Z(q0)
+    W = V.restrict(z, V.name)
+    stats = dict(result.stats)
+    stats.update(_counts(W, count_transitions, True))
+    stats["seconds"] = result.stats["seconds"] + time.perf_counter() - t0
+    return SupconResult(W, stats)
 
 
 # -- explicit twin ---------------------------------------------------------------
