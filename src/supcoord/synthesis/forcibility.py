@@ -47,7 +47,7 @@ References
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterable, Sequence
 
 from ..bdd.context import BDD
@@ -168,6 +168,11 @@ def forcible_layers(
     Q = G.invariant if within is None else G.invariant & within
     env_states = uncontrollable_enabled(G)
     groups = clusters(G)
+    if semantics == "preemptive":  # C(q) counts only where U(q) = ∅, U(q) only where U(q) ≠ ∅:
+        # each relation restricted to the sources where it counts, so every image is
+        # smaller (CCC 1.8x faster on the coupled paper model, docs/paper.md)
+        groups = [replace(g, relation=g.relation & Q & (~env_states if g.controllable else env_states))
+                  for g in groups]
     primed_inv: dict[tuple[str, ...], BDD] = {}
     stop = None if stop_at is None else as_states(G, stop_at)
     w = as_states(G, target) & Q
