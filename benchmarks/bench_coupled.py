@@ -3,7 +3,7 @@
 For each number of positioners ``N`` (``coupled_instance(N, 8, seed)``: the first ``N``
 hex sites, seeded starts and targets outside each other's safety zone) and each
 variable order of :func:`supcoord.paper.coupled.positioner_order` — ``layout`` (the
-order before issue 15) and ``auto`` (Cuthill–McKee on the neighbour graph where it
+hex grid's order) and ``auto`` (Cuthill–McKee on the neighbour graph where it
 lowers the bandwidth) — one fresh subprocess with a time limit and a 6 GiB memory limit
 builds ``G`` and ``allevents(G) || S``, runs ``supcon`` and ``ccc(full=False)`` (what
 ``supcoord paper --model coupled`` runs) and reports:
@@ -281,7 +281,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.quick:
         return 0
     with open(args.out, "w") as f:
-        f.write("# The coupled paper model: where the time goes (issue 15)\n\n")
+        f.write("# The coupled paper model: where the time goes\n\n")
         f.write(f"Command: `{command.strip()}`  \n")
         f.write(f"Date: {machine['date']}; machine: {machine['uname']}, {machine['cpus']} CPUs, Python "
                 f"{machine['python']}; code: `{machine['version']}`  \n")

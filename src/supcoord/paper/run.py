@@ -52,8 +52,8 @@ from .coupled import CoupledModel, Geometry, coupled_models
 from .literal import PaperInstance, hex_neighbours, hex_sites, literal_models, random_instance
 from .modular import literal_modular
 
-__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "run_paper", "solve_paper", "coupled_instance",
-           "default_route", "json_count", "log10_count"]
+__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "run_paper", "solve_paper",
+           "coupled_instance", "default_route", "json_count", "log10_count"]
 
 MODELS = ("literal", "coupled")
 ROUTES = ("modular", "monolithic")
@@ -62,8 +62,8 @@ ROUTES = ("modular", "monolithic")
 #: count is a closed formula and always exact
 AUTO_COUNT_EVENTS = 256
 #: the coupled model's trim supervisor is counted only up to this many positioners:
-#: its reachable set took 7 s at 6 positioners and 69 s at 7, where the supervisor
-#: without it and CCC take 38 s (benchmarks/results/coupled.md)
+#: counting took 5 s at 6 positioners and 69 s at 7, where the supervisor without its
+#: reachable set and CCC take 24 s (docs/paper.md, benchmarks/results/coupled.md)
 AUTO_COUNT_COUPLED = 6
 #: longest exact integer put into the JSON (Python's default int/str conversion limit is 4300)
 MAX_JSON_DIGITS = 4000
