@@ -25,7 +25,7 @@ undefined where ``σ ∉ Σ_E``):
 the future of a state (its paths to ``Qm``, its uncontrollable successors), so on any
 set ``A`` closed under successors its greatest fixpoint is the one on the whole state
 space restricted to ``A``: ``Z_A = Z_Q ∩ A``.  With ``A = Reach(P)``, the supervisor
-computed on ``Q_P \ B0`` without any forward search, ``P`` restricted to ``Z_Q``, has
+computed on ``Q_P \\ B0`` without any forward search, ``P`` restricted to ``Z_Q``, has
 the same initial state, the same reachable part and so the same languages; only its
 unreachable states differ, and its exact sizes need :func:`accessible_part`.  This pays
 where ``Reach(P)`` is the hard set: in the coupled paper model a positioner's collision
