@@ -62,8 +62,8 @@ ROUTES = ("modular", "monolithic")
 #: count is a closed formula and always exact
 AUTO_COUNT_EVENTS = 256
 #: the coupled model's trim supervisor is counted only up to this many positioners:
-#: counting took 5 s at 6 positioners and 69 s at 7, where the supervisor without its
-#: reachable set and CCC take 24 s (docs/paper.md, benchmarks/results/coupled.md)
+#: counting took 5 s at 6 positioners (benchmarks/results/coupled.md), and the reachable
+#: set alone 87 s at 7 (coupled_sets.md), where the supervisor without it and CCC take 24 s
 AUTO_COUNT_COUPLED = 6
 #: longest exact integer put into the JSON (Python's default int/str conversion limit is 4300)
 MAX_JSON_DIGITS = 4000

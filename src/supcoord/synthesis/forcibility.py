@@ -170,7 +170,7 @@ def forcible_layers(
     groups = clusters(G)
     if semantics == "preemptive":  # C(q) counts only where U(q) = ∅, U(q) only where U(q) ≠ ∅:
         # each relation restricted to the sources where it counts, so every image is
-        # smaller (CCC 1.8x faster on the coupled paper model, docs/paper.md)
+        # smaller (the coupled paper model's layers 2-2.7x faster, benchmarks/results/coupled_sets.md)
         groups = [replace(g, relation=g.relation & Q & (~env_states if g.controllable else env_states))
                   for g in groups]
     primed_inv: dict[tuple[str, ...], BDD] = {}
