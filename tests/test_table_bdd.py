@@ -89,3 +89,13 @@ def test_pair_guards_renamed_by_geometry_equal_their_own_tables():
             assert seen_orders == {True, False}
             if problem.robot_kinematics is None:
                 assert renamed > len(model._guard_by_geometry)  # the renaming route was taken
+            # a window's own manager: the first guard of a geometry copied, the others renamed
+            members = sorted({p for p in range(problem.n) if adj[p]})[:5]
+            window = CoordinationModel(problem, order="cutwidth", members=members, guards_from=model)
+            for p in members:
+                for k, q, side in adj[p]:
+                    if q in members:
+                        for m in range(len(window.moves)):
+                            table = ~blocked_table(problem, k, side)[m].reshape(shape + shape)
+                            names = var_names(problem, p) + var_names(problem, q)
+                            assert window.pair_guard(p, m, k, q, side) == table_bdd(window.ctx, table, names)

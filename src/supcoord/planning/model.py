@@ -132,15 +132,16 @@ class CoordinationModel:
         """``¬B_{p,m}(x_p, x_q)`` for the conflict pair ``k`` (``side`` = ``p``'s side)."""
         key = (p, m, q)
         g = self._pair_guard.get(key)
-        if g is None and self.guards_from is not None:  # copied: far cheaper than from the table
-            src = self.guards_from
-            g = self._pair_guard[key] = src.ctx.bdd.copy(src.pair_guard(p, m, k, q, side), self.ctx.bdd)
         if g is None:
             names = var_names(self.problem, p) + var_names(self.problem, q)
             shared = self.problem.pair_geometry_key(k) + (side, m)  # same key, same blocked table
             built = self._guard_by_geometry.get(shared)
             if built is not None:  # the same function on other variables: a renaming (~1 ms)
                 g = self.ctx.bdd.let(self._bit_renaming(built[0], names), built[1])
+            elif self.guards_from is not None:  # copied (~3 ms): cheaper than from the table
+                src = self.guards_from
+                g = src.ctx.bdd.copy(src.pair_guard(p, m, k, q, side), self.ctx.bdd)
+                self._guard_by_geometry[shared] = (names, g)
             else:  # from the table (~10-40 ms at 36 x 19 positions)
                 b = blocked_table(self.problem, k, side)[m]  # [i_p, j_q] over flat positions
                 shape = self._shape()
