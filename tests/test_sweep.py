@@ -250,3 +250,49 @@ def test_batch_swept_matches_the_pairwise_tables():
     for k in range(len(batch.pairs)):
         for mover in (0, 1):
             assert np.array_equal(batch.swept(k, mover), single.swept(k, mover)), (k, mover)
+
+
+@pytest.mark.timeout(60)
+def test_tables_survive_eviction_and_are_read_only(monkeypatch):
+    """With the distance and unpacked-swept caches at one byte (every table but the newest
+    dropped), static, swept and distance tables, read in any order and again, are exactly
+    those of a run that keeps everything; and no caller can write into a shared table."""
+    from supcoord.geometry import collision
+    from supcoord.geometry.table_store import PackedTables, RecentArrays
+
+    rng = np.random.default_rng(7)
+    bases = hex_grid(2, 16.0)
+    kins = [AlphaBeta(float(rng.uniform(6, 10)), float(rng.uniform(8, 15)), int(rng.integers(5, 9)),
+                      int(rng.integers(3, 6)), (0.0, 180.0)) for p in range(len(bases))]
+    kept = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    kept.prepare(range(len(kept.pairs)))
+    monkeypatch.setattr(collision, "DIST_CACHE_BYTES", 1)
+    monkeypatch.setattr(collision, "SWEPT_CACHE_BYTES", 1)
+    tight = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    tight.prepare(range(len(tight.pairs)))
+    assert len(tight._dist) == 0 and len(tight._swept._recent) == 1
+    order = list(range(len(kept.pairs))) * 2
+    rng.shuffle(order)
+    for k in order:
+        for mover in (0, 1):
+            assert np.array_equal(tight.swept(k, mover), kept.swept(k, mover)), (k, mover)
+        assert np.array_equal(tight.static(k), kept.static(k)), k
+        a, b = (int(x) for x in kept.pairs[k])
+        direct = collision.distance_table(kins[a], bases[a], bases[b], kins[b])  # at the bases, not the offset
+        assert np.allclose(tight.distances(k), direct, rtol=0, atol=1e-9), k
+        for table in (tight.swept(k, 0), tight.static(k), tight.distances(k)):
+            with pytest.raises(ValueError):
+                table[(0,) * table.ndim] = True
+    assert len(tight._dist) == 1 and tight._swept.packed_bytes * 6 < sum(kept.swept(k, 0).nbytes * 2 for k in range(
+        len(kept.pairs)))
+    # the stores themselves
+    store = RecentArrays(100)
+    store.put("a", np.zeros(60, np.uint8))
+    store.put("b", np.zeros(30, np.uint8))
+    assert store.get("a") is not None  # a is now the most recent
+    store.put("c", np.zeros(30, np.uint8))
+    assert "b" not in store and "a" in store and "c" in store and store.nbytes == 90
+    packed = PackedTables(0)
+    t = rng.random((3, 5, 11)) < 0.5
+    assert np.array_equal(packed.put("t", t), t) and np.array_equal(packed.get("t"), t)
+    assert packed.packed_bytes == 3 * 5 * 2

@@ -44,6 +44,7 @@ from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_moti
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
+from .table_store import PackedTables, RecentArrays
 
 __all__ = [
     "segment_distance",
@@ -70,6 +71,10 @@ __all__ = [
 #: largest table (position pairs of one neighbour pair) built explicitly; finer
 #: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
 MAX_TABLE_ENTRIES = MAX_POSITIONS**2
+#: bytes of float distance tables kept (least recently used dropped, recomputed on demand)
+DIST_CACHE_BYTES = 256 * 2**20
+#: bytes of swept tables kept unpacked (all are kept bit-packed)
+SWEPT_CACHE_BYTES = 256 * 2**20
 
 
 def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
@@ -252,8 +257,9 @@ class CollisionTables:
                                      self.buffers)
         self._static: dict[tuple, np.ndarray] = {}
         self._keys: dict[int, tuple] = {}  # pair -> its sharing key (offset, buffer sum, kinematics ids)
-        self._swept: dict[tuple, np.ndarray] = {}
-        self._dist: dict[tuple, np.ndarray] = {}
+        self._swept = PackedTables(SWEPT_CACHE_BYTES)  # one bit an entry (table_store)
+        self._simultaneous: dict[tuple, np.ndarray] = {}
+        self._dist = RecentArrays(DIST_CACHE_BYTES)
 
     def _kin(self, u: int) -> Kinematics:
         if u in self._own:
@@ -276,15 +282,21 @@ class CollisionTables:
     def static(self, k: int) -> np.ndarray:
         key = self._key(k)
         if key not in self._static:
-            off, bsum, ua, ub = key
-            table = self._distances(off, ua, ub) < bsum
-            fa, fb = self._unary(k)
-            if fa is not None:
-                table = table | fa[0][:, None]
-            if fb is not None:
-                table = table | fb[0][None, :]
-            self._static[key] = table
+            off, _, ua, ub = key
+            self._keep_static(k, self._distances(off, ua, ub))
         return self._static[key]
+
+    def _keep_static(self, k: int, distances: np.ndarray) -> None:
+        """Store pair ``k``'s static table ``D < r_a + r_b`` with the unary tables folded in."""
+        key = self._key(k)
+        table = distances < key[1]
+        fa, fb = self._unary(k)
+        if fa is not None:
+            table = table | fa[0][:, None]
+        if fb is not None:
+            table = table | fb[0][None, :]
+        table.flags.writeable = False
+        self._static[key] = table
 
     def distances(self, k: int) -> np.ndarray:
         """``D[i, j]``: the distance between pair ``k``'s colliding segments, ``a`` at position
@@ -294,12 +306,13 @@ class CollisionTables:
 
     def _distances(self, offset: tuple[float, float], ua: int = 0, ub: int = 0) -> np.ndarray:
         key = (offset, ua, ub)
-        if key not in self._dist:
-            neg = ((-offset[0] + 0.0, -offset[1] + 0.0), ub, ua)
-            if neg in self._dist:  # D_{-o}[j, i] = D_o[i, j]
-                return self._dist[neg].T
-            self._dist[key] = distance_table(self._kin(ua), (0.0, 0.0), offset, self._kin(ub))
-        return self._dist[key]
+        out = self._dist.get(key)
+        if out is None:
+            neg = self._dist.get(((-offset[0] + 0.0, -offset[1] + 0.0), ub, ua))
+            if neg is not None:  # D_{-o}[j, i] = D_o[i, j]
+                return neg.T
+            out = self._dist.put(key, distance_table(self._kin(ua), (0.0, 0.0), offset, self._kin(ub)))
+        return out
 
     def swept(self, k: int, mover: int) -> np.ndarray:
         key = self._key(k) + (mover,)
@@ -307,11 +320,11 @@ class CollisionTables:
             (ox, oy), bsum, ua, ub = key[:4]
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
             if mirror in self._swept:  # b moving past a at offset o is a moving past b at −o
-                return np.swapaxes(self._swept[mirror], 1, 2)
+                return np.swapaxes(self._swept.get(mirror), 1, 2)
             table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
                                 distances=self._distances((ox, oy), ua, ub))
-            self._swept[key] = self._fold_swept(k, mover, table)
-        return self._swept[key]
+            return self._swept.put(key, self._fold_swept(k, mover, table))
+        return self._swept.get(key)
 
     def _fold_swept(self, k: int, mover: int, table: np.ndarray) -> np.ndarray:
         fa, fb = self._unary(k)
@@ -337,18 +350,19 @@ class CollisionTables:
             done = batch_swept([arrays[key[2]] for key in keys], [arrays[key[3]] for key in keys],
                                [key[0] for key in keys], [key[1] for key in keys])
             for k, key, (dist, w0, w1) in zip(part, keys, done):
-                self._dist.setdefault((key[0], key[2], key[3]), dist)
-                self._swept.setdefault(key + (0,), self._fold_swept(k, 0, w0))
-                self._swept.setdefault(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
+                if key not in self._static:
+                    self._keep_static(k, dist)  # the distances themselves are recomputed if needed again
+                self._swept.put(key + (0,), self._fold_swept(k, 0, w0))
+                self._swept.put(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""
         key = self._key(k) + ("sim",)
-        if key not in self._swept:
+        if key not in self._simultaneous:
             (ox, oy), bsum, ua, ub = key[:4]
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, "sim")
-            if mirror in self._swept:  # S_{-o}[v, u, j, i] = S_o[u, v, i, j]
-                return np.transpose(self._swept[mirror], (1, 0, 3, 2))
+            if mirror in self._simultaneous:  # S_{-o}[v, u, j, i] = S_o[u, v, i, j]
+                return np.transpose(self._simultaneous[mirror], (1, 0, 3, 2))
             table = simultaneous_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, self.tol,
                                        distances=self._distances((ox, oy), ua, ub), kin_b=self._kin(ub))
             fa, fb = self._unary(k)
@@ -356,8 +370,8 @@ class CollisionTables:
                 table |= np.concatenate([fa[0][None], fa[1]])[:, None, :, None]
             if fb is not None:
                 table |= np.concatenate([fb[0][None], fb[1]])[None, :, None, :]
-            self._swept[key] = table
-        return self._swept[key]
+            self._simultaneous[key] = table
+        return self._simultaneous[key]
 
     def neighbours_of(self, p: int) -> list[tuple[int, int, int]]:
         """``(k, other, side)`` for every pair ``k`` containing ``p`` (``side`` 0 if ``p`` is ``a``)."""
