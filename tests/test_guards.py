@@ -99,3 +99,33 @@ def test_exact_swept_tables_are_symmetric_up_to_rounding(kin):
         colliding += int(static.sum())
         assert np.all(w >= static[None])  # every move's swept table contains the start pose's collisions
     assert colliding
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("kin", KINEMATICS, ids=["rotary", "alpha-beta", "alpha-beta-tight"])
+def test_blocked_bits_read_like_the_table(kin, monkeypatch):
+    """The planner's hot readers take the blocked tables' bits (:func:`is_blocked`,
+    :func:`blocked_column`); with the unpacked cache at one byte (every table but the newest
+    dropped and unpacked again when asked), they and the unpacked table agree entry for entry."""
+    from supcoord.planning import guards
+    from supcoord.planning.guards import blocked_bits, blocked_column, is_blocked
+
+    monkeypatch.setattr(guards, "BLOCKED_CACHE_BYTES", 1)
+    problem = _problem(kin, 4)
+    rng = np.random.default_rng(4)
+    expected = {}
+    for k in range(len(problem.pairs)):
+        for side in (0, 1):
+            table = blocked_table(problem, k, side)
+            assert not table.flags.writeable and blocked_bits(problem, k, side).dtype == np.uint8
+            expected[k, side] = table.copy()
+    for (k, side), table in expected.items():
+        again = blocked_table(problem, k, side)  # unpacked anew from the bits
+        assert np.array_equal(again, table)
+        M, P, Q = table.shape
+        for m in range(M):
+            for j in rng.choice(Q, size=min(Q, 5), replace=False).tolist():
+                assert np.array_equal(blocked_column(problem, k, side, m, j), table[m, :, j])
+            for i, j in zip(rng.integers(0, P, 40).tolist(), rng.integers(0, Q, 40).tolist()):
+                assert is_blocked(problem, k, side, m, i, j) == bool(table[m, i, j])
+    assert any(t.any() for t in expected.values()) and not all(t.all() for t in expected.values())

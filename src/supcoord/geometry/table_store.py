@@ -85,9 +85,15 @@ class PackedTables:
             return self.get(key)
         table = np.asarray(table, dtype=bool)
         packed = np.packbits(table, axis=-1)
+        packed.flags.writeable = False
         self._packed[key] = (packed, table.shape[-1])
         self.packed_bytes += packed.nbytes
         return self._recent.put(key, table)
+
+    def packed(self, key: Hashable) -> np.ndarray:
+        """The stored bits (read-only): entry ``[..., j]`` of the table is bit ``7 − j % 8``
+        of byte ``[..., j // 8]``."""
+        return self._packed[key][0]
 
     def get(self, key: Hashable) -> np.ndarray:
         out = self._recent.get(key)

@@ -49,7 +49,7 @@ from ..geometry.chain_motion import chain_geometry, chain_motion_collides
 from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move
 from ..problems.problem import Problem
-from .guards import blocked_table, conflict_graph, pair_graph
+from .guards import blocked_bits, conflict_graph, pair_graph
 
 __all__ = ["descent", "descent_step", "wanted_moves", "motion_free"]
 
@@ -125,15 +125,15 @@ def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
 
 def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: np.ndarray, mq: list) -> bool:
     """Condition (1) for the moves ``mp`` of the pair member ``side`` against ``mq``."""
-    blocked = blocked_table(T.problem, k, side)
+    bits = blocked_bits(T.problem, k, side)  # B[m, i, j]: bit 7 − j % 8 of byte [m, i, j // 8]
     cp, cq = cp.tolist(), cq.tolist()
-    q_poses = [T.flat_after(cq, s) for s in _subsets(mq)]
+    q_bits = [(j >> 3, 1 << (7 - (j & 7))) for j in (T.flat_after(cq, s) for s in _subsets(mq))]
     for mv in mp:
-        row = blocked[T.move_index[mv]]
+        row = bits[T.move_index[mv]]
         others = [x for x in mp if x != mv]
         for s in _subsets(others):
-            cells = row[T.flat_after(cp, s)]
-            if any(cells[j] for j in q_poses):
+            cells = row[T.flat_after(cp, s)].tobytes()
+            if any(cells[byte] & mask for byte, mask in q_bits):
                 return False
     return True
 

@@ -39,12 +39,25 @@ import numpy as np
 
 from ..bdd.context import BDD, Context
 from ..geometry.kinematics import Kinematics
+from ..geometry.table_store import PackedTables
 from ..problems.problem import Problem
 
-__all__ = ["blocked_table", "conflict_graph", "pair_graph", "successor_table", "table_bdd", "var_names"]
+__all__ = ["blocked_table", "blocked_bits", "blocked_column", "is_blocked", "conflict_graph", "pair_graph",
+           "successor_table", "table_bdd", "var_names"]
 
 #: ``adj[p] = [(k, q, side), …]``: pair ``k = (p, q)`` with ``p`` on side ``side``
 Adjacency = list[list[tuple[int, int, int]]]
+
+
+#: bytes of blocked tables kept unpacked (all are kept bit-packed: :func:`blocked_bits`)
+BLOCKED_CACHE_BYTES = 256 * 2**20
+
+
+def _blocked_store(problem: Problem) -> PackedTables:
+    store = problem.__dict__.get("_blocked_store")
+    if store is None:
+        store = problem.__dict__["_blocked_store"] = PackedTables(BLOCKED_CACHE_BYTES)
+    return store
 
 
 def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
@@ -52,11 +65,14 @@ def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
     position ``i`` is blocked while the other stands at ``j`` — oriented mover first,
     symmetrised with the reverse move from the end pose (module docstring).  Shared, like the
     swept tables, by the pairs of equal geometry (:meth:`Problem.pair_geometry_key`): one
-    table per offset on a grid of identical robots, not one per pair."""
-    cache = problem.__dict__.setdefault("_blocked_cache", {})
+    table per offset on a grid of identical robots, not one per pair.  Kept bit-packed
+    (:mod:`supcoord.geometry.table_store`); the array returned is read-only, and the readers
+    of single entries or columns use :func:`is_blocked` and :func:`blocked_column`, which
+    read the bits without unpacking."""
+    store = _blocked_store(problem)
     key = problem.pair_geometry_key(k) + (side,)
-    if key in cache:
-        return cache[key]
+    if key in store:
+        return store.get(key)
     tables, kin = problem.tables(), problem.kinematics
     w = tables.swept(k, side)
     if side == 1:
@@ -69,8 +85,28 @@ def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
         nxt, ok = kin.step_array(pos, joint, delta)
         idx = np.nonzero(ok)[0]
         out[m, idx] |= w[rev, kin.flat_index(nxt[idx])]  # the way back must be free too
-    cache[key] = out
-    return out
+    return store.put(key, out)
+
+
+def blocked_bits(problem: Problem, k: int, side: int) -> np.ndarray:
+    """:func:`blocked_table` bit-packed on its last axis (read-only ``uint8``): ``B[m, i, j]``
+    is bit ``7 − j % 8`` of byte ``[m, i, j // 8]``."""
+    store = _blocked_store(problem)
+    key = problem.pair_geometry_key(k) + (side,)
+    if key not in store:
+        blocked_table(problem, k, side)
+    return store.packed(key)
+
+
+def is_blocked(problem: Problem, k: int, side: int, m: int, i: int, j: int) -> bool:
+    """``B[m, i, j]`` of :func:`blocked_table`, read from the bits."""
+    return bool(blocked_bits(problem, k, side)[m, i, j >> 3] >> (7 - (j & 7)) & 1)
+
+
+def blocked_column(problem: Problem, k: int, side: int, m: int, j: int) -> np.ndarray:
+    """``B[m, :, j]`` of :func:`blocked_table` (the mover's positions blocked by the other
+    standing at ``j``), read from the bits."""
+    return ((blocked_bits(problem, k, side)[m, :, j >> 3] >> (7 - (j & 7))) & 1).astype(bool)
 
 
 def _move_blocked_any(problem: Problem, k: int) -> bool:

@@ -47,7 +47,7 @@ from ..errors import InputError, ModelError
 from ..problems.plan import event_name
 from ..problems.problem import Problem
 from .graph_order import cutwidth_order, hex_order, rcm_order
-from .guards import blocked_table, conflict_graph, table_bdd, var_names
+from .guards import blocked_column, blocked_table, conflict_graph, table_bdd, var_names
 
 __all__ = ["CoordinationModel", "GuardedSystem", "GuardedMove"]
 
@@ -165,7 +165,7 @@ class CoordinationModel:
         key = (p, m, q, cq)
         g = self._unary_guard.get(key)
         if g is None:
-            b = blocked_table(self.problem, k, side)[m][:, cq]
+            b = blocked_column(self.problem, k, side, m, cq)
             g = table_bdd(self.ctx, ~b.reshape(self._shape()), var_names(self.problem, p))
             self._unary_guard[key] = g
         return g
@@ -182,7 +182,7 @@ class CoordinationModel:
             own = self.problem.unary().get(p)
             blocked = np.zeros(self.kin.n_positions, dtype=bool) if own is None else own[1][m].copy()
             for k, side, cq in outside:
-                blocked |= blocked_table(self.problem, k, side)[m][:, cq]
+                blocked |= blocked_column(self.problem, k, side, m, cq)
             g = table_bdd(self.ctx, ~blocked.reshape(self._shape()), var_names(self.problem, p))
             self._unary_guard[key] = g
         return g

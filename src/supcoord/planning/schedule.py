@@ -43,7 +43,7 @@ from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
 from .descent import motion_free
-from .guards import blocked_table, conflict_graph, pair_graph
+from .guards import conflict_graph, is_blocked, pair_graph
 
 __all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
 
@@ -212,7 +212,7 @@ class _Placer:
         if dq is None and mp is not None:
             ks = self.side_of.get((p, q))
             flat = self.kin.flat_position
-            return ks is None or not blocked_table(self.problem, ks[0], ks[1])[mp, flat(x), flat(y)]
+            return ks is None or not is_blocked(self.problem, ks[0], ks[1], mp, flat(x), flat(y))
         return motion_free(self.problem, k, side, x, dp, y, dq, self.tol)
 
     def fits(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
