@@ -254,7 +254,7 @@ def test_batch_swept_matches_the_pairwise_tables():
 
 @pytest.mark.timeout(60)
 def test_tables_survive_eviction_and_are_read_only(monkeypatch):
-    """With the distance and unpacked-swept caches at one byte (every table but the newest
+    """With the distance and unpacked-table caches at one byte (every table but the newest
     dropped), static, swept and distance tables, read in any order and again, are exactly
     those of a run that keeps everything; and no caller can write into a shared table."""
     from supcoord.geometry import collision
@@ -267,10 +267,10 @@ def test_tables_survive_eviction_and_are_read_only(monkeypatch):
     kept = CollisionTables(kins[0], bases, 1.5, kins=kins)
     kept.prepare(range(len(kept.pairs)))
     monkeypatch.setattr(collision, "DIST_CACHE_BYTES", 1)
-    monkeypatch.setattr(collision, "SWEPT_CACHE_BYTES", 1)
+    monkeypatch.setattr(collision, "UNPACKED_CACHE_BYTES", 1)
     tight = CollisionTables(kins[0], bases, 1.5, kins=kins)
     tight.prepare(range(len(tight.pairs)))
-    assert len(tight._dist) == 0 and len(tight._swept._recent) == 1
+    assert len(tight._dist) == 0 and len(tight._bits._recent) == 1
     order = list(range(len(kept.pairs))) * 2
     rng.shuffle(order)
     for k in order:
@@ -283,7 +283,7 @@ def test_tables_survive_eviction_and_are_read_only(monkeypatch):
         for table in (tight.swept(k, 0), tight.static(k), tight.distances(k)):
             with pytest.raises(ValueError):
                 table[(0,) * table.ndim] = True
-    assert len(tight._dist) == 1 and tight._swept.packed_bytes * 6 < sum(kept.swept(k, 0).nbytes * 2 for k in range(
+    assert len(tight._dist) == 1 and tight._bits.packed_bytes * 6 < sum(kept.swept(k, 0).nbytes * 3 for k in range(
         len(kept.pairs)))
     # the stores themselves
     store = RecentArrays(100)

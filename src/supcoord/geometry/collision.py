@@ -73,8 +73,8 @@ __all__ = [
 MAX_TABLE_ENTRIES = MAX_POSITIONS**2
 #: bytes of float distance tables kept (least recently used dropped, recomputed on demand)
 DIST_CACHE_BYTES = 256 * 2**20
-#: bytes of swept tables kept unpacked (all are kept bit-packed)
-SWEPT_CACHE_BYTES = 256 * 2**20
+#: bytes of static and swept tables kept unpacked (all are kept bit-packed)
+UNPACKED_CACHE_BYTES = 256 * 2**20
 
 
 def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
@@ -255,9 +255,9 @@ class CollisionTables:
                 self._ids[p] = first + p
         self.pairs = neighbour_pairs(self.bases, robot_reaches(kins if kins is not None else kin, len(self.bases)),
                                      self.buffers)
-        self._static: dict[tuple, np.ndarray] = {}
         self._keys: dict[int, tuple] = {}  # pair -> its sharing key (offset, buffer sum, kinematics ids)
-        self._swept = PackedTables(SWEPT_CACHE_BYTES)  # one bit an entry (table_store)
+        # static tables by _key(k), swept ones by _key(k) + (mover,): one bit an entry (table_store)
+        self._bits = PackedTables(UNPACKED_CACHE_BYTES)
         self._simultaneous: dict[tuple, np.ndarray] = {}
         self._dist = RecentArrays(DIST_CACHE_BYTES)
 
@@ -281,12 +281,12 @@ class CollisionTables:
 
     def static(self, k: int) -> np.ndarray:
         key = self._key(k)
-        if key not in self._static:
+        if key not in self._bits:
             off, _, ua, ub = key
-            self._keep_static(k, self._distances(off, ua, ub))
-        return self._static[key]
+            return self._keep_static(k, self._distances(off, ua, ub))
+        return self._bits.get(key)
 
-    def _keep_static(self, k: int, distances: np.ndarray) -> None:
+    def _keep_static(self, k: int, distances: np.ndarray) -> np.ndarray:
         """Store pair ``k``'s static table ``D < r_a + r_b`` with the unary tables folded in."""
         key = self._key(k)
         table = distances < key[1]
@@ -295,8 +295,7 @@ class CollisionTables:
             table = table | fa[0][:, None]
         if fb is not None:
             table = table | fb[0][None, :]
-        table.flags.writeable = False
-        self._static[key] = table
+        return self._bits.put(key, table)
 
     def distances(self, k: int) -> np.ndarray:
         """``D[i, j]``: the distance between pair ``k``'s colliding segments, ``a`` at position
@@ -316,15 +315,15 @@ class CollisionTables:
 
     def swept(self, k: int, mover: int) -> np.ndarray:
         key = self._key(k) + (mover,)
-        if key not in self._swept:
+        if key not in self._bits:
             (ox, oy), bsum, ua, ub = key[:4]
             mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
-            if mirror in self._swept:  # b moving past a at offset o is a moving past b at −o
-                return np.swapaxes(self._swept.get(mirror), 1, 2)
+            if mirror in self._bits:  # b moving past a at offset o is a moving past b at −o
+                return np.swapaxes(self._bits.get(mirror), 1, 2)
             table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
                                 distances=self._distances((ox, oy), ua, ub))
-            return self._swept.put(key, self._fold_swept(k, mover, table))
-        return self._swept.get(key)
+            return self._bits.put(key, self._fold_swept(k, mover, table))
+        return self._bits.get(key)
 
     def _fold_swept(self, k: int, mover: int, table: np.ndarray) -> np.ndarray:
         fa, fb = self._unary(k)
@@ -338,7 +337,7 @@ class CollisionTables:
         """Compute the swept tables of pairs ``ks`` (both movers) ahead, many pairs per call
         (:func:`.batch.batch_swept`): what a layout of robots with their own geometry needs,
         where few pairs share tables.  The tables are the ones :meth:`swept` computes."""
-        todo = [int(k) for k in ks if self._key(int(k)) + (0,) not in self._swept]
+        todo = [int(k) for k in ks if self._key(int(k)) + (0,) not in self._bits]
         arrays: dict[int, KinematicsArrays] = {}
         for lo in range(0, len(todo), chunk):
             part = todo[lo:lo + chunk]
@@ -350,10 +349,10 @@ class CollisionTables:
             done = batch_swept([arrays[key[2]] for key in keys], [arrays[key[3]] for key in keys],
                                [key[0] for key in keys], [key[1] for key in keys])
             for k, key, (dist, w0, w1) in zip(part, keys, done):
-                if key not in self._static:
+                if key not in self._bits:
                     self._keep_static(k, dist)  # the distances themselves are recomputed if needed again
-                self._swept.put(key + (0,), self._fold_swept(k, 0, w0))
-                self._swept.put(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
+                self._bits.put(key + (0,), self._fold_swept(k, 0, w0))
+                self._bits.put(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""

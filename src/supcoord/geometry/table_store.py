@@ -8,11 +8,12 @@ These stores keep what must stay as compact as it can be, and what can be recomp
 only while it is recent:
 
 - :class:`RecentArrays`: a least-recently-used cache bounded in bytes (the distance
-  tables: the static tables are kept as Booleans, and a distance table is recomputed on
-  demand when a plan improvement or a simultaneous check needs it again);
+  tables: a distance table is recomputed on demand when a plan improvement or a
+  simultaneous check needs it again);
 - :class:`PackedTables`: Boolean tables stored bit-packed (8 entries a byte,
   ``numpy.packbits`` on the last axis), with the most recently read ones kept unpacked in
-  a :class:`RecentArrays`.
+  a :class:`RecentArrays` (the static, swept and blocked tables; the planner's hot readers
+  take single bits or columns from :meth:`PackedTables.packed`).
 
 A grid of identical robots has a handful of distinct tables, which stay cached whole.
 Arrays handed out are read-only: a caller that changes a table would change every pair
