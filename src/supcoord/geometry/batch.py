@@ -8,6 +8,12 @@ same tables — the same end-point prefilter and the same exact closed form
 Each robot's segments, successors, rotations and sampled poses are computed once per
 distinct kinematics.
 
+Most position pairs of two robots hold arms far apart: a distance is computed exactly only
+where a cheap lower bound (midpoints' distance less the half-lengths, :func:`_far_bounds`)
+leaves the end-point prefilter open; an entry whose prefilter used a bound and stays open
+gets its exact end-point distances before anything else reads them, so every later step
+sees the numbers it always saw.
+
 Between the two, the sound cheap tests of :func:`.sweep.rotation_certain` decide most
 entries the prefilter leaves open: the sampled bound over the whole turn (per table), the
 annulus, then the bisected turn (:func:`.sweep.bisect_turns`) over the whole chunk; one
@@ -37,6 +43,24 @@ __all__ = ["KinematicsArrays", "batch_swept"]
 
 #: bisections of a turn before the closed form (:func:`.sweep.bisect_turns`): poses at k/4
 _DEPTH = 2
+#: slack of the distance lower bound against rounding (mm)
+_BOUND_SLACK = 1e-9
+
+
+def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(D, exact)``: ``D[i, j]`` the distance between segments ``sa[i]`` and ``sb[j]`` where
+    ``exact[i, j]``, elsewhere a lower bound at least ``threshold``:
+    ``|m_a − m_b| − h_a − h_b`` (midpoints ``m``, half-lengths ``h``; every point of a segment
+    lies within ``h`` of its midpoint), less :data:`_BOUND_SLACK`."""
+    ma, mb = sa.mean(axis=1), sb.mean(axis=1)
+    ha = np.hypot(*(sa[:, 1] - sa[:, 0]).T) / 2
+    hb = np.hypot(*(sb[:, 1] - sb[:, 0]).T) / 2
+    bound = np.hypot(ma[:, None, 0] - mb[None, :, 0], ma[:, None, 1] - mb[None, :, 1])
+    bound -= ha[:, None] + hb[None, :] + _BOUND_SLACK
+    exact = bound < threshold
+    i, j = np.nonzero(exact)
+    bound[i, j] = segment_distance(sa[i, 0], sa[i, 1], sb[j, 0], sb[j, 1])
+    return bound, exact
 
 
 class KinematicsArrays:
@@ -82,11 +106,34 @@ class KinematicsArrays:
                               axis=-1)
 
 
+def _exact_ends(flat: np.ndarray, row: np.ndarray, e0: np.ndarray, e1: np.ndarray, exact: np.ndarray,
+                km: KinematicsArrays, seg_m: np.ndarray, seg_s: np.ndarray, bsum: float) -> tuple[np.ndarray, ...]:
+    """The open entries ``flat`` (rows ``m·P + i``, end-point distances ``e0``, ``e1``) with
+    their bounded end-point distances made exact, and those the exact end-point bound
+    ``(e0 + e1 − L)/2 ≥ bsum`` then decides (free) dropped: the same test, on the same
+    numbers, as without the bounds."""
+    n_other = seg_s.shape[0]
+    i, j = row % seg_m.shape[0], flat % n_other
+    i1 = km.nxt_or_self.reshape(-1)[row]
+    redo = ~(exact[i, j] & exact[i1, j])
+    if not redo.any():
+        return flat, row, e0, e1
+    e0, e1 = e0.copy(), e1.copy()
+    r, jr = np.nonzero(redo)[0], j[redo]
+    e0[r] = segment_distance(seg_m[i[r], 0], seg_m[i[r], 1], seg_s[jr, 0], seg_s[jr, 1])
+    e1[r] = segment_distance(seg_m[i1[r], 0], seg_m[i1[r], 1], seg_s[jr, 0], seg_s[jr, 1])
+    lower = np.add(e0, e1)
+    lower -= km.length[row // seg_m.shape[0]]
+    keep = lower < 2 * bsum
+    return flat[keep], row[keep], e0[keep], e1[keep]
+
+
 def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArrays], offsets: Any,
                 bsums: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """``[(D, W0, W1), …]`` for pairs ``k`` with ``a`` at the origin and ``b`` at ``offsets[k]``:
-    the distance table ``D[i, j]`` and the swept tables of ``a`` moving (``W0[m, i, j]``) and of
-    ``b`` moving (``W1[m, i, j]``), as :func:`.collision.swept_table` defines them."""
+    """``[(T, W0, W1), …]`` for pairs ``k`` with ``a`` at the origin and ``b`` at ``offsets[k]``:
+    the static table ``T[i, j] = D[i, j] < bsum`` and the swept tables of ``a`` moving
+    (``W0[m, i, j]``) and of ``b`` moving (``W1[m, i, j]``), as :func:`.collision.swept_table`
+    defines them."""
     offsets = np.asarray(offsets, float).reshape(-1, 2)
     out: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     # the open entries of each table (neither end pose nor the bound over the whole turn
@@ -101,10 +148,12 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
     n_kin = n_mover = n_turn = n_other = 0
     for ka, kb, off, bsum in zip(arrays_a, arrays_b, offsets, np.asarray(bsums, float)):
         sa, sb = ka.segments, kb.segments + off
-        dist = segment_distance(sa[:, None, 0], sa[:, None, 1], sb[None, :, 0], sb[None, :, 1])
+        # exact where either end pose could be near or the end-point bound could fail
+        dist, known = _far_bounds(sa, sb, bsum + max(ka.length.max(initial=0.0), kb.length.max(initial=0.0)) / 2)
         tables = []
-        for mover, (km, seg_m, seg_s, shift, d) in enumerate(((ka, sa, sb, 0.0, dist),
-                                                                (kb, sb, sa, off, np.ascontiguousarray(dist.T)))):
+        for mover, (km, seg_m, seg_s, shift, d, exact) in enumerate((
+                (ka, sa, sb, 0.0, dist, known),
+                (kb, sb, sa, off, np.ascontiguousarray(dist.T), np.ascontiguousarray(known.T)))):
             # the end-point prefilter, every move at once: hit if either end pose collides,
             # free if (d0 + d1 − L)/2 ≥ bsum; a move past a stop is marked True
             near = d < bsum
@@ -119,9 +168,11 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
             flat = np.flatnonzero(~decided)
             n_pos, n_other_pos = d.shape
             if len(flat):
-                # the sampled bound over the whole turn (level 0 of sweep.bisect_turns)
                 row = flat // n_other_pos
                 e0, e1 = d.reshape(-1)[flat % d.size], d1.reshape(-1)[flat]
+                flat, row, e0, e1 = _exact_ends(flat, row, e0, e1, exact, km, seg_m, seg_s, bsum)
+            if len(flat):
+                # the sampled bound over the whole turn (level 0 of sweep.bisect_turns)
                 keep = (e0 + e1) * 0.5 - km.slack.reshape(-1, _DEPTH + 1)[row, 0] < bsum + MARGIN
                 if keep.any():
                     if id(km) not in kin_at:
@@ -149,7 +200,7 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
             n_turn += len(km.nxt) * n_pos
             n_other += n_other_pos
             tables.append(w)
-        out.append((dist, tables[0], np.swapaxes(tables[1], 1, 2)))
+        out.append((dist < bsum, tables[0], np.swapaxes(tables[1], 1, 2)))
     if not jobs:
         return out
     counts = np.asarray(counts)

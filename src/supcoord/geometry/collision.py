@@ -283,13 +283,12 @@ class CollisionTables:
         key = self._key(k)
         if key not in self._bits:
             off, _, ua, ub = key
-            return self._keep_static(k, self._distances(off, ua, ub))
+            return self._keep_static(k, self._distances(off, ua, ub) < key[1])
         return self._bits.get(key)
 
-    def _keep_static(self, k: int, distances: np.ndarray) -> np.ndarray:
+    def _keep_static(self, k: int, table: np.ndarray) -> np.ndarray:
         """Store pair ``k``'s static table ``D < r_a + r_b`` with the unary tables folded in."""
         key = self._key(k)
-        table = distances < key[1]
         fa, fb = self._unary(k)
         if fa is not None:
             table = table | fa[0][:, None]
@@ -348,9 +347,9 @@ class CollisionTables:
                         arrays[u] = KinematicsArrays(self._kin(u))
             done = batch_swept([arrays[key[2]] for key in keys], [arrays[key[3]] for key in keys],
                                [key[0] for key in keys], [key[1] for key in keys])
-            for k, key, (dist, w0, w1) in zip(part, keys, done):
+            for k, key, (static, w0, w1) in zip(part, keys, done):
                 if key not in self._bits:
-                    self._keep_static(k, dist)  # the distances themselves are recomputed if needed again
+                    self._keep_static(k, static)
                 self._bits.put(key + (0,), self._fold_swept(k, 0, w0))
                 self._bits.put(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
 
