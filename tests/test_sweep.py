@@ -296,3 +296,29 @@ def test_tables_survive_eviction_and_are_read_only(monkeypatch):
     t = rng.random((3, 5, 11)) < 0.5
     assert np.array_equal(packed.put("t", t), t) and np.array_equal(packed.get("t"), t)
     assert packed.packed_bytes == 3 * 5 * 2
+
+
+@pytest.mark.timeout(60)
+def test_swept_bits_and_lines_read_like_the_tables():
+    """``swept_bit`` and ``swept_line`` (the schedule's and the plan improvement's readers)
+    equal the unpacked tables, on a grid of identical robots (mirrored tables stored once)
+    and on robots with their own geometry."""
+    rng = np.random.default_rng(3)
+    bases = hex_grid(2, 16.0)
+    kin = AlphaBeta(8.0, 12.0, 7, 5, (0.0, 180.0))
+    kins = [AlphaBeta(float(rng.uniform(6, 10)), float(rng.uniform(8, 15)), 7, 5, (0.0, 180.0)) for _ in bases]
+    for tables in (CollisionTables(kin, bases, 1.5), CollisionTables(kins[0], bases, 1.5, kins=kins)):
+        mirrored = 0
+        for k in range(len(tables.pairs)):
+            for mover in (0, 1):
+                mirrored += tables._swept_key(k, mover)[1]
+                table = tables.swept(k, mover)
+                M, P, Q = table.shape
+                for m in range(M):
+                    for i in rng.integers(0, P, 4).tolist():
+                        assert np.array_equal(tables.swept_line(k, mover, m, i=i), table[m, i, :])
+                    for j in rng.integers(0, Q, 4).tolist():
+                        assert np.array_equal(tables.swept_line(k, mover, m, j=j), table[m, :, j])
+                    for i, j in zip(rng.integers(0, P, 20).tolist(), rng.integers(0, Q, 20).tolist()):
+                        assert tables.swept_bit(k, mover, m, i, j) == bool(table[m, i, j])
+        assert (mirrored > 0) == (tables._distinct is None)  # the mirror route is taken on the grid

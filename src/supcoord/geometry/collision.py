@@ -4,7 +4,7 @@ Positioners ``a`` and ``b`` with colliding segments ``S_a(q_a)``, ``S_b(q_b)`` a
 buffers ``r_a``, ``r_b`` *collide* when ``dist(S_a, S_b) < r_a + r_b``.
 
 - Neighbour pairs: ``{(a, b) : a < b, |x_a − x_b| < reach_a + reach_b + r_a + r_b}``
-  (only these can ever collide).
+  (only these can ever collide; :mod:`.pairs`).
 - Static table of a pair: ``T[i, j] = dist(S_a(i), S_b(j)) < r_a + r_b`` over all
   positions ``i`` of ``a`` and ``j`` of ``b``.
 - Swept table for a one-step move ``m = (joint, δ)`` of the mover while the other stands
@@ -42,6 +42,7 @@ from .kinematics import MAX_POSITIONS, Kinematics
 from .batch import KinematicsArrays, batch_swept
 from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
+from .pairs import colliding_pairs, neighbour_pairs
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
 from .table_store import PackedTables, RecentArrays
@@ -75,34 +76,6 @@ MAX_TABLE_ENTRIES = MAX_POSITIONS**2
 DIST_CACHE_BYTES = 256 * 2**20
 #: bytes of static and swept tables kept unpacked (all are kept bit-packed)
 UNPACKED_CACHE_BYTES = 256 * 2**20
-
-
-def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
-    """Pairs ``(a, b)``, ``a < b``, whose reach discs grown by the buffers overlap: ``(P, 2)`` ints.
-
-    ``|x_a − x_b| < reach_a + reach_b + r_a + r_b``; computed in row chunks (no KD-tree),
-    sorted lexicographically.
-
-    >>> neighbour_pairs([[0, 0], [9, 0], [30, 0]], 4.0, 1.0).tolist()
-    [[0, 1]]
-    """
-    xy = np.asarray(bases, float)
-    n = len(xy)
-    reach = np.broadcast_to(np.asarray(reach, float), (n,))
-    buffers = np.broadcast_to(np.asarray(buffers, float), (n,))
-    grow = reach + buffers
-    out = []
-    rows = max(1, CHUNK * 16 // max(n, 1))
-    for lo in range(0, n, rows):
-        hi = min(n, lo + rows)
-        d = np.linalg.norm(xy[lo:hi, None, :] - xy[None, :, :], axis=-1)
-        close = d < grow[lo:hi, None] + grow[None, :]
-        ia, ib = np.nonzero(close)
-        ia = ia + lo
-        keep = ia < ib
-        out.append(np.stack([ia[keep], ib[keep]], axis=-1))
-    pairs = np.concatenate(out) if out else np.zeros((0, 2), int)
-    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))].astype(int) if len(pairs) else pairs.astype(int).reshape(0, 2)
 
 
 def static_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float,
@@ -207,22 +180,6 @@ def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, t
     return out
 
 
-def colliding_pairs(kin: Kinematics | list[Kinematics], bases: Any, buffers: Any, positions: Any,
-                    pairs: Any | None = None) -> list[tuple[int, int, float]]:
-    """Pairs ``(a, b, distance)`` that collide statically at ``positions`` (``(N, J)`` ints);
-    ``kin`` is shared by every robot or a list with each robot's own."""
-    bases = np.asarray(bases, float)
-    buffers = np.broadcast_to(np.asarray(buffers, float), (len(bases),))
-    if pairs is None:
-        pairs = neighbour_pairs(bases, robot_reaches(kin, len(bases)), buffers)
-    pairs = np.asarray(pairs, int).reshape(-1, 2)
-    seg = robot_segments(kin, bases, np.asarray(positions))
-    a, b = pairs[:, 0], pairs[:, 1]
-    d = segment_distance(seg[a, 0], seg[a, 1], seg[b, 0], seg[b, 1])
-    bad = d < buffers[a] + buffers[b]
-    return [(int(i), int(j), float(x)) for i, j, x in zip(a[bad], b[bad], d[bad])]
-
-
 class CollisionTables:
     """Static and swept tables of every neighbour pair of one layout, computed on demand.
 
@@ -323,6 +280,31 @@ class CollisionTables:
                                 distances=self._distances((ox, oy), ua, ub))
             return self._bits.put(key, self._fold_swept(k, mover, table))
         return self._bits.get(key)
+
+    def _swept_key(self, k: int, mover: int) -> tuple[tuple, bool]:
+        """The stored key of ``swept(k, mover)`` and whether it is stored transposed (mirror)."""
+        key = self._key(k) + (mover,)
+        if key not in self._bits:
+            (ox, oy), bsum, ua, ub = key[:4]
+            mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
+            if mirror in self._bits:
+                return mirror, True
+            self.swept(k, mover)
+        return key, False
+
+    def swept_bit(self, k: int, mover: int, m: int, i: int, j: int) -> bool:
+        """``swept(k, mover)[m, i, j]``, read from the bits (no table unpacked)."""
+        key, mirrored = self._swept_key(k, mover)
+        return self._bits.bit(key, m, j, i) if mirrored else self._bits.bit(key, m, i, j)
+
+    def swept_line(self, k: int, mover: int, m: int, *, i: int | None = None, j: int | None = None) -> np.ndarray:
+        """``swept(k, mover)[m, i, :]`` (given ``i``) or ``[m, :, j]`` (given ``j``), from the bits."""
+        key, mirrored = self._swept_key(k, mover)
+        if (i is None) == (j is None):
+            raise InputError("swept_line takes exactly one of i and j", value=(i, j))
+        if i is not None:
+            return self._bits.column(key, m, i) if mirrored else self._bits.row(key, m, i)
+        return self._bits.row(key, m, j) if mirrored else self._bits.column(key, m, j)
 
     def _fold_swept(self, k: int, mover: int, table: np.ndarray) -> np.ndarray:
         fa, fb = self._unary(k)

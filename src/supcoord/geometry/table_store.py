@@ -96,6 +96,19 @@ class PackedTables:
         of byte ``[..., j // 8]``."""
         return self._packed[key][0]
 
+    def bit(self, key: Hashable, m: int, i: int, j: int) -> bool:
+        """Entry ``[m, i, j]`` of a three-axis table, from the bits."""
+        return bool(self._packed[key][0][m, i, j >> 3] >> (7 - (j & 7)) & 1)
+
+    def column(self, key: Hashable, m: int, j: int) -> np.ndarray:
+        """``[m, :, j]`` of a three-axis table, from the bits."""
+        return ((self._packed[key][0][m, :, j >> 3] >> (7 - (j & 7))) & 1).astype(bool)
+
+    def row(self, key: Hashable, m: int, i: int) -> np.ndarray:
+        """``[m, i, :]`` of a three-axis table, from the bits."""
+        packed, count = self._packed[key]
+        return np.unpackbits(packed[m, i], count=count).astype(bool)
+
     def get(self, key: Hashable) -> np.ndarray:
         out = self._recent.get(key)
         if out is None:

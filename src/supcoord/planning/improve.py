@@ -151,11 +151,12 @@ class _Replanner:
                     ok &= ~(self.tables.static(k)[:, j0] if side == 0 else self.tables.static(k)[j0, :])
             elif u == 0 and v < self.n_single:  # q turns one joint past a standing r: q's swept table
                 if (r, q) in self.conflict:
-                    swept = self.tables.swept(k, 1 - side)  # [move of q, i_a, j_b]
-                    ok &= ~(swept[v - 1, :, j0] if side == 0 else swept[v - 1, j0, :])
+                    # swept(k, 1 − side)[move of q, i_a, j_b], q at j0
+                    ok &= ~(self.tables.swept_line(k, 1 - side, v - 1, j=j0) if side == 0 else
+                            self.tables.swept_line(k, 1 - side, v - 1, i=j0))
             elif v == 0 and u < self.n_single:  # r turns one joint past a standing q: r's swept table
-                swept = self.tables.swept(k, side)
-                ok &= ~(swept[u - 1, :, j0] if side == 0 else swept[u - 1, j0, :])
+                ok &= ~(self.tables.swept_line(k, side, u - 1, j=j0) if side == 0 else
+                        self.tables.swept_line(k, side, u - 1, i=j0))
             else:  # both move, or several joints at once: the merged motion, for every position of r at once
                 ok &= ~self.merged_hits(k, side, v, j0)[u]
         return ok

@@ -82,8 +82,9 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
                         if q not in at:
                             k_pair, side = pair_of[(p, q)]
                             j = kin.flat_position(cur[q])
-                            w = problem.tables().swept(k_pair, side)
-                            if w[m, i, j] if side == 0 else w[m, j, i]:
+                            tables = problem.tables()
+                            if tables.swept_bit(k_pair, side, m, i, j) if side == 0 else \
+                                    tables.swept_bit(k_pair, side, m, j, i):
                                 s = s_min + 1
                                 break
                 moving = [q for q in qs if q in at or not single]
