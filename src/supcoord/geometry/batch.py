@@ -106,6 +106,41 @@ class KinematicsArrays:
                               axis=-1)
 
 
+def _prefilter(km: KinematicsArrays, d: np.ndarray, exact: np.ndarray, bsum: float) -> tuple[np.ndarray, ...]:
+    """The end-point prefilter of every move at once: ``W[m, i, j]`` True where either end
+    pose collides (``d0 < bsum`` or ``d1 < bsum``) or the move runs into a stop; the entries
+    left open ``(flat, rows, d0, d1)`` are those neither that nor ``(d0 + d1 − L)/2 ≥ bsum``
+    decides.  Only entries with an end pose at an exact distance are looked at: where both
+    ends hold bounds ``≥ bsum + L/2`` (:func:`_far_bounds`) the move is free."""
+    n_moves, n_pos = km.nxt.shape
+    n_other = d.shape[1]
+    w = np.empty((n_moves, n_pos, n_other), dtype=bool)
+    w[:] = km.stop[:, :, None]
+    ei, ej = np.nonzero(exact)
+    if not len(ei):
+        return w, *(np.zeros(0, dtype=np.int64),) * 2, *(np.zeros(0),) * 2
+    prev = np.full((n_moves, n_pos), -1, dtype=np.int64)  # prev[m, i1] = i with nxt[m, i] = i1
+    mv, src = np.nonzero(~km.stop)
+    prev[mv, km.nxt[mv, src]] = src
+    m_all = np.repeat(np.arange(n_moves), len(ei))
+    i_all, j_all = np.tile(ei, n_moves), np.tile(ej, n_moves)
+    before = prev[m_all, i_all]  # entries whose end pose is exact
+    starts = ~km.stop[m_all, i_all]  # entries whose start pose is exact (a stop is decided)
+    flat = np.unique(np.concatenate([(m_all[starts] * n_pos + i_all[starts]) * n_other + j_all[starts],
+                                     (m_all[before >= 0] * n_pos + before[before >= 0]) * n_other
+                                     + j_all[before >= 0]]))
+    row = flat // n_other
+    j = flat % n_other
+    e0 = d[row % n_pos, j]
+    e1 = d[km.nxt_or_self.reshape(-1)[row], j]
+    hit = (e0 < bsum) | (e1 < bsum)
+    w.reshape(-1)[flat[hit]] = True
+    lower = np.add(e0, e1)  # d0 + d1 − L ≥ 2·bsum is (d0 + d1 − L)/2 ≥ bsum: halving is exact
+    lower -= km.length[row // n_pos]
+    keep = ~hit & ~(lower >= 2 * bsum)
+    return w, flat[keep], row[keep], e0[keep], e1[keep]
+
+
 def _exact_ends(flat: np.ndarray, row: np.ndarray, e0: np.ndarray, e1: np.ndarray, exact: np.ndarray,
                 km: KinematicsArrays, seg_m: np.ndarray, seg_s: np.ndarray, bsum: float) -> tuple[np.ndarray, ...]:
     """The open entries ``flat`` (rows ``m·P + i``, end-point distances ``e0``, ``e1``) with
@@ -154,22 +189,9 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
         for mover, (km, seg_m, seg_s, shift, d, exact) in enumerate((
                 (ka, sa, sb, 0.0, dist, known),
                 (kb, sb, sa, off, np.ascontiguousarray(dist.T), np.ascontiguousarray(known.T)))):
-            # the end-point prefilter, every move at once: hit if either end pose collides,
-            # free if (d0 + d1 − L)/2 ≥ bsum; a move past a stop is marked True
-            near = d < bsum
-            d1 = d[km.nxt_or_self]  # (M, P, P')
-            w = near[km.nxt_or_self]
-            w |= near
-            w |= km.stop[:, :, None]
-            lower = np.add(d, d1)  # d0 + d1 − L ≥ 2·bsum is (d0 + d1 − L)/2 ≥ bsum: halving is exact
-            lower -= km.length[:, None, None]
-            decided = lower >= 2 * bsum
-            decided |= w
-            flat = np.flatnonzero(~decided)
+            w, flat, row, e0, e1 = _prefilter(km, d, exact, bsum)
             n_pos, n_other_pos = d.shape
             if len(flat):
-                row = flat // n_other_pos
-                e0, e1 = d.reshape(-1)[flat % d.size], d1.reshape(-1)[flat]
                 flat, row, e0, e1 = _exact_ends(flat, row, e0, e1, exact, km, seg_m, seg_s, bsum)
             if len(flat):
                 # the sampled bound over the whole turn (level 0 of sweep.bisect_turns)
