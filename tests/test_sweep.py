@@ -322,3 +322,34 @@ def test_swept_bits_and_lines_read_like_the_tables():
                     for i, j in zip(rng.integers(0, P, 20).tolist(), rng.integers(0, Q, 20).tolist()):
                         assert tables.swept_bit(k, mover, m, i, j) == bool(table[m, i, j])
         assert (mirrored > 0) == (tables._distinct is None)  # the mirror route is taken on the grid
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("seed", range(6))
+def test_batch_swept_with_bounds_matches_the_pairwise_tables_on_random_layouts(seed):
+    """The batch route computes exact distances only where a lower bound leaves the
+    end-point prefilter open (:func:`.batch._far_bounds`, :func:`.batch._prefilter`): on
+    scattered robots of random arms, coarse steps (long sweeps) and buffers, every table
+    equals the pair-by-pair one, and both kinds of entries (bounded, exact) occur."""
+    from supcoord.geometry.batch import KinematicsArrays, _far_bounds
+
+    rng = np.random.default_rng(seed)
+    bases = rng.uniform(0, 40, (12, 2))
+    kins = [AlphaBeta(float(rng.uniform(4, 10)), float(rng.uniform(6, 15)), int(rng.integers(3, 7)),
+                      int(rng.integers(3, 5)), (0.0, 180.0)) for _ in range(len(bases))]
+    buffer = float(rng.uniform(0.5, 3))
+    batch = CollisionTables(kins[0], bases, buffer, kins=kins)
+    batch.prepare(range(len(batch.pairs)))
+    single = CollisionTables(kins[0], bases, buffer, kins=kins)
+    bounded = 0
+    for k in range(len(batch.pairs)):
+        a, b = (int(x) for x in batch.pairs[k])
+        for mover in (0, 1):
+            assert np.array_equal(batch.swept(k, mover), single.swept(k, mover)), (k, mover)
+        assert np.array_equal(batch.static(k), single.static(k)), k
+        sa, sb = KinematicsArrays(kins[a]).segments, KinematicsArrays(kins[b]).segments + (bases[b] - bases[a])
+        d, exact = _far_bounds(sa, sb, 2 * buffer + 1.0)
+        true = single.distances(k)
+        assert np.all(d[~exact] <= true[~exact]) and np.allclose(d[exact], true[exact], rtol=0, atol=1e-9)
+        bounded += int((~exact).sum())
+    assert bounded > 0 and len(batch.pairs) > 5

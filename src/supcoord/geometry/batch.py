@@ -49,18 +49,25 @@ _BOUND_SLACK = 1e-9
 
 def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray]:
     """``(D, exact)``: ``D[i, j]`` the distance between segments ``sa[i]`` and ``sb[j]`` where
-    ``exact[i, j]``, elsewhere a lower bound at least ``threshold``:
-    ``|m_a − m_b| − h_a − h_b`` (midpoints ``m``, half-lengths ``h``; every point of a segment
-    lies within ``h`` of its midpoint), less :data:`_BOUND_SLACK`."""
+    ``exact[i, j]``, elsewhere ``threshold``, a lower bound: there
+    ``|m_a − m_b| ≥ threshold + h_a + h_b`` (midpoints ``m``, half-lengths ``h``; every point
+    of a segment lies within ``h`` of its midpoint), tested on squares with
+    :data:`_BOUND_SLACK` to spare."""
     ma, mb = sa.mean(axis=1), sb.mean(axis=1)
     ha = np.hypot(*(sa[:, 1] - sa[:, 0]).T) / 2
     hb = np.hypot(*(sb[:, 1] - sb[:, 0]).T) / 2
-    bound = np.hypot(ma[:, None, 0] - mb[None, :, 0], ma[:, None, 1] - mb[None, :, 1])
-    bound -= ha[:, None] + hb[None, :] + _BOUND_SLACK
-    exact = bound < threshold
+    dx = ma[:, None, 0] - mb[None, :, 0]
+    dy = ma[:, None, 1] - mb[None, :, 1]
+    dx *= dx
+    dy *= dy
+    dx += dy
+    reach = (ha + (threshold + _BOUND_SLACK))[:, None] + hb[None, :]
+    reach *= reach
+    exact = dx < reach
+    out = np.full(exact.shape, float(threshold))
     i, j = np.nonzero(exact)
-    bound[i, j] = segment_distance(sa[i, 0], sa[i, 1], sb[j, 0], sb[j, 1])
-    return bound, exact
+    out[i, j] = segment_distance(sa[i, 0], sa[i, 1], sb[j, 0], sb[j, 1])
+    return out, exact
 
 
 class KinematicsArrays:
