@@ -123,19 +123,10 @@ def _prefilter(km: KinematicsArrays, d: np.ndarray, exact: np.ndarray, bsum: flo
     n_other = d.shape[1]
     w = np.empty((n_moves, n_pos, n_other), dtype=bool)
     w[:] = km.stop[:, :, None]
-    ei, ej = np.nonzero(exact)
-    if not len(ei):
-        return w, *(np.zeros(0, dtype=np.int64),) * 2, *(np.zeros(0),) * 2
-    prev = np.full((n_moves, n_pos), -1, dtype=np.int64)  # prev[m, i1] = i with nxt[m, i] = i1
-    mv, src = np.nonzero(~km.stop)
-    prev[mv, km.nxt[mv, src]] = src
-    m_all = np.repeat(np.arange(n_moves), len(ei))
-    i_all, j_all = np.tile(ei, n_moves), np.tile(ej, n_moves)
-    before = prev[m_all, i_all]  # entries whose end pose is exact
-    starts = ~km.stop[m_all, i_all]  # entries whose start pose is exact (a stop is decided)
-    flat = np.unique(np.concatenate([(m_all[starts] * n_pos + i_all[starts]) * n_other + j_all[starts],
-                                     (m_all[before >= 0] * n_pos + before[before >= 0]) * n_other
-                                     + j_all[before >= 0]]))
+    cand = exact[km.nxt_or_self]  # (M, P, P'): the end pose's distance is exact …
+    cand |= exact  # … or the start pose's
+    cand &= ~km.stop[:, :, None]  # (a move into a stop is decided)
+    flat = np.flatnonzero(cand)
     row = flat // n_other
     j = flat % n_other
     e0 = d[row % n_pos, j]
