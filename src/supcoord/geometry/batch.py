@@ -127,14 +127,14 @@ def _prefilter(km: KinematicsArrays, d: np.ndarray, exact: np.ndarray, bsum: flo
     cand |= exact  # … or the start pose's
     cand &= ~km.stop[:, :, None]  # (a move into a stop is decided)
     flat = np.flatnonzero(cand)
-    row = flat // n_other
-    j = flat % n_other
-    e0 = d[row % n_pos, j]
-    e1 = d[km.nxt_or_self.reshape(-1)[row], j]
+    row, j = np.divmod(flat, n_other)
+    m, i = np.divmod(row, n_pos)
+    e0 = d[i, j]
+    e1 = d[km.nxt_or_self[m, i], j]
     hit = (e0 < bsum) | (e1 < bsum)
     w.reshape(-1)[flat[hit]] = True
     lower = np.add(e0, e1)  # d0 + d1 − L ≥ 2·bsum is (d0 + d1 − L)/2 ≥ bsum: halving is exact
-    lower -= km.length[row // n_pos]
+    lower -= km.length[m]
     keep = ~hit & ~(lower >= 2 * bsum)
     return w, flat[keep], row[keep], e0[keep], e1[keep]
 
