@@ -8,17 +8,17 @@ same tables — the same end-point prefilter and the same exact closed form
 Each robot's segments, successors, rotations and sampled poses are computed once per
 distinct kinematics.
 
-Most position pairs of two robots hold arms far apart: a distance is computed exactly only
-where a cheap lower bound (midpoints' distance less the half-lengths, :func:`_far_bounds`)
-leaves the end-point prefilter open; an entry whose prefilter used a bound and stays open
-gets its exact end-point distances before anything else reads them, so every later step
-sees the numbers it always saw.
-
 Between the two, the sound cheap tests of :func:`.sweep.rotation_certain` decide most
 entries the prefilter leaves open: the sampled bound over the whole turn (per table), the
 annulus, then the bisected turn (:func:`.sweep.bisect_turns`) over the whole chunk; one
 clearance call takes what is still open.  The tests decide only with :data:`.sweep.MARGIN`
 to spare, so every entry is what the closed form makes it: the tables are the same booleans.
+
+Most position pairs of two robots hold arms far apart: a distance is computed exactly only
+where a cheap lower bound (midpoints' distance less the half-lengths, :func:`_far_bounds`)
+leaves the end-point prefilter open; an entry whose prefilter used a bound and stays open
+gets its exact end-point distances before anything else reads them, so every later step
+sees the numbers it always saw.
 """
 
 from __future__ import annotations
