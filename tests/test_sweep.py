@@ -326,12 +326,19 @@ def test_swept_bits_and_lines_read_like_the_tables():
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("seed", range(6))
-def test_batch_swept_with_bounds_matches_the_pairwise_tables_on_random_layouts(seed):
+@pytest.mark.parametrize("bounds", [True, False], ids=["bounds", "dense"])
+def test_batch_swept_with_bounds_matches_the_pairwise_tables_on_random_layouts(seed, bounds, monkeypatch):
     """The batch route computes exact distances only where a lower bound leaves the
-    end-point prefilter open (:func:`.batch._far_bounds`, :func:`.batch._prefilter`): on
-    scattered robots of random arms, coarse steps (long sweeps) and buffers, every table
-    equals the pair-by-pair one, and both kinds of entries (bounded, exact) occur."""
+    end-point prefilter open (:func:`.batch._far_bounds`, :func:`.batch._prefilter`; tables
+    of at least ``BOUND_MIN_ENTRIES`` entries, forced here for these small ones) and every
+    distance with the dense prefilter otherwise: on scattered robots of random arms, coarse
+    steps (long sweeps) and buffers, every table equals the pair-by-pair one either way, and
+    with bounds both kinds of entries (bounded, exact) occur."""
+    from supcoord.geometry import batch as batch_module
     from supcoord.geometry.batch import KinematicsArrays, _far_bounds
+
+    if bounds:
+        monkeypatch.setattr(batch_module, "BOUND_MIN_ENTRIES", 0)
 
     rng = np.random.default_rng(seed)
     bases = rng.uniform(0, 40, (12, 2))
@@ -352,4 +359,4 @@ def test_batch_swept_with_bounds_matches_the_pairwise_tables_on_random_layouts(s
         true = single.distances(k)
         assert np.all(d[~exact] <= true[~exact]) and np.allclose(d[exact], true[exact], rtol=0, atol=1e-9)
         bounded += int((~exact).sum())
-    assert bounded > 0 and len(batch.pairs) > 5
+    assert (bounded > 0) == bounds and len(batch.pairs) > 5

@@ -73,7 +73,7 @@ __all__ = [
 #: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
 MAX_TABLE_ENTRIES = MAX_POSITIONS**2
 #: bytes of float distance tables kept (least recently used dropped, recomputed on demand)
-DIST_CACHE_BYTES = 256 * 2**20
+DIST_CACHE_BYTES = 512 * 2**20
 #: bytes of static and swept tables kept unpacked (all are kept bit-packed)
 UNPACKED_CACHE_BYTES = 256 * 2**20
 
