@@ -63,12 +63,17 @@ def _guard_problems():
 
 
 @pytest.mark.timeout(120)
-def test_pair_guards_renamed_by_geometry_equal_their_own_tables():
-    """``CoordinationModel.pair_guard`` builds one BDD per (pair geometry, side, move) and
-    renames it for the other pairs of that geometry: each must equal the BDD of its own
-    blocked table, in both relative orders of the two robots' variables."""
+@pytest.mark.parametrize("rename", [True, False])
+def test_pair_guards_renamed_by_geometry_equal_their_own_tables(rename, monkeypatch):
+    """``CoordinationModel.pair_guard`` builds one BDD per (pair geometry, side, move) and,
+    on fine lattices (forced here), renames it for the other pairs of that geometry: each
+    must equal the BDD of its own blocked table, in both relative orders of the two robots'
+    variables."""
+    from supcoord.planning import model as model_module
     from supcoord.planning.guards import blocked_table, conflict_graph, var_names
     from supcoord.planning.model import CoordinationModel
+
+    monkeypatch.setattr(model_module, "RENAME_MIN_ENTRIES", 0 if rename else 2**62)
 
     for problem in _guard_problems():
         adj = conflict_graph(problem)
@@ -87,8 +92,9 @@ def test_pair_guards_renamed_by_geometry_equal_their_own_tables():
                         assert g == table_bdd(model.ctx, table, names), (p, q, m, side)
                     seen_orders.add(model.order.index(p) < model.order.index(q))
             assert seen_orders == {True, False}
-            if problem.robot_kinematics is None:
+            if problem.robot_kinematics is None and rename:
                 assert renamed > len(model._guard_by_geometry)  # the renaming route was taken
+            assert bool(model._guard_by_geometry) == rename
             # a window's own manager: the first guard of a geometry copied, the others renamed
             members = sorted({p for p in range(problem.n) if adj[p]})[:5]
             window = CoordinationModel(problem, order="cutwidth", members=members, guards_from=model)

@@ -19,12 +19,13 @@ others frozen at a configuration ``c``) is the generator
   needs no state invariant);
 - ``q0 = c|_S`` (or the start), ``Qm = {target|_S}``, invariant: the valid codes.
 
-Each distinct pair table is turned into a BDD once per (pair geometry, move) on the
-actual bits (:func:`.guards.table_bdd`); the other pairs of that geometry get it by
+Each pair guard is turned into a BDD on the actual bits from its table
+(:func:`.guards.table_bdd`); on fine lattices the other pairs of the same geometry get it by
 renaming the variables (the same function: ~1 ms against 10–40 ms from the table at
-36 × 19 positions).  Frozen neighbours' guards are rows of the same tables.  The model of the whole grid declares every positioner in one
+36 × 19 positions; :data:`RENAME_MIN_ENTRIES`).  Frozen neighbours' guards are rows of the
+same tables.  The model of the whole grid declares every positioner in one
 :class:`~supcoord.bdd.Context`; a window's own manager copies its pair guards from it
-(``guards_from``) instead of building them again.
+(``guards_from``) instead of building them again, or renames one it already has.
 
 References
 ----------
@@ -56,6 +57,11 @@ __all__ = ["CoordinationModel", "GuardedSystem", "GuardedMove"]
 #: 12.3 / 18.2 / 19.2, 36 × 19 92.8 / 94.3 / 130.8; the APO wok at 13 × 7 alike at 500 and 5000
 #: (a conjunct over the limit is computed and thrown away: fine lattices' guards are ~5000 nodes)
 CLUSTER_NODES = 500
+#: pair guards of tables with at least this many entries are renamed from the first guard of
+#: their geometry (:meth:`CoordinationModel.pair_guard`): dd's renaming costs time in the
+#: manager's declared bits (~1 ms at 127 robots, ~10 ms at DESI's 5,167), building from a
+#: table in its entries (0.2 ms at 13 × 7, 10–40 ms at 36 × 19)
+RENAME_MIN_ENTRIES = 2**16
 
 
 class CoordinationModel:
@@ -135,18 +141,19 @@ class CoordinationModel:
         if g is None:
             names = var_names(self.problem, p) + var_names(self.problem, q)
             shared = self.problem.pair_geometry_key(k) + (side, m)  # same key, same blocked table
-            built = self._guard_by_geometry.get(shared)
-            if built is not None:  # the same function on other variables: a renaming (~1 ms)
+            rename = self.kin.n_positions ** 2 >= RENAME_MIN_ENTRIES
+            built = self._guard_by_geometry.get(shared) if rename else None
+            if built is not None:  # the same function on other variables: a renaming
                 g = self.ctx.bdd.let(self._bit_renaming(built[0], names), built[1])
             elif self.guards_from is not None:  # copied (~3 ms): cheaper than from the table
                 src = self.guards_from
                 g = src.ctx.bdd.copy(src.pair_guard(p, m, k, q, side), self.ctx.bdd)
-                self._guard_by_geometry[shared] = (names, g)
             else:  # from the table (~10-40 ms at 36 x 19 positions)
                 b = blocked_table(self.problem, k, side)[m]  # [i_p, j_q] over flat positions
                 shape = self._shape()
                 g = table_bdd(self.ctx, ~b.reshape(shape + shape), names)
-                self._guard_by_geometry[shared] = (names, g)
+            if rename:
+                self._guard_by_geometry.setdefault(shared, (names, g))
             self._pair_guard[key] = g
         return g
 
