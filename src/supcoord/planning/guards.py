@@ -88,25 +88,33 @@ def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
     return store.put(key, out)
 
 
-def blocked_bits(problem: Problem, k: int, side: int) -> np.ndarray:
-    """:func:`blocked_table` bit-packed on its last axis (read-only ``uint8``): ``B[m, i, j]``
-    is bit ``7 − j % 8`` of byte ``[m, i, j // 8]``."""
+def _stored(problem: Problem, k: int, side: int) -> tuple[PackedTables, tuple]:
+    """The store and key of :func:`blocked_table` ``(k, side)``, the table computed if new."""
     store = _blocked_store(problem)
     key = problem.pair_geometry_key(k) + (side,)
     if key not in store:
         blocked_table(problem, k, side)
+    return store, key
+
+
+def blocked_bits(problem: Problem, k: int, side: int) -> np.ndarray:
+    """:func:`blocked_table` bit-packed on its last axis (read-only ``uint8``): ``B[m, i, j]``
+    is bit ``7 − j % 8`` of byte ``[m, i, j // 8]`` (:meth:`PackedTables.packed`)."""
+    store, key = _stored(problem, k, side)
     return store.packed(key)
 
 
 def is_blocked(problem: Problem, k: int, side: int, m: int, i: int, j: int) -> bool:
     """``B[m, i, j]`` of :func:`blocked_table`, read from the bits."""
-    return bool(blocked_bits(problem, k, side)[m, i, j >> 3] >> (7 - (j & 7)) & 1)
+    store, key = _stored(problem, k, side)
+    return store.bit(key, m, i, j)
 
 
 def blocked_column(problem: Problem, k: int, side: int, m: int, j: int) -> np.ndarray:
     """``B[m, :, j]`` of :func:`blocked_table` (the mover's positions blocked by the other
     standing at ``j``), read from the bits."""
-    return ((blocked_bits(problem, k, side)[m, :, j >> 3] >> (7 - (j & 7))) & 1).astype(bool)
+    store, key = _stored(problem, k, side)
+    return store.column(key, m, j)
 
 
 def _move_blocked_any(problem: Problem, k: int) -> bool:
