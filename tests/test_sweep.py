@@ -235,18 +235,21 @@ def test_bisect_turns_is_sound_at_every_depth():
 
 
 @pytest.mark.timeout(60)
-def test_batch_swept_matches_the_pairwise_tables():
+@pytest.mark.parametrize("unary", [False, True], ids=["plain", "unary"])
+def test_batch_swept_matches_the_pairwise_tables(unary):
     """:meth:`CollisionTables.prepare` (:func:`.batch.batch_swept`, with its cheap tests) gives
     exactly the tables :func:`swept_table` computes pair by pair, robots with their own arms,
-    lattices and stops."""
+    lattices and stops; with unary tables (obstacles, held robots) folded in on either side."""
     rng = np.random.default_rng(5)
     bases = hex_grid(2, 16.0)
     kins = [AlphaBeta(float(rng.uniform(6, 10)), float(rng.uniform(8, 15)), int(rng.integers(5, 9)),
                       int(rng.integers(3, 6)), [(0.0, 180.0), (-30.0, 150.0), (150.0, 180.0)][p % 3],
                       alpha_range=None if p % 4 else (0.0, 300.0)) for p in range(len(bases))]
-    batch = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    folded = {p: (rng.random(kins[p].n_positions) < 0.1, rng.random((len(kins[p].moves()), kins[p].n_positions)) < 0.1)
+              for p in range(0, len(bases), 2)} if unary else None
+    batch = CollisionTables(kins[0], bases, 1.5, kins=kins, unary=folded)
     batch.prepare(range(len(batch.pairs)))
-    single = CollisionTables(kins[0], bases, 1.5, kins=kins)
+    single = CollisionTables(kins[0], bases, 1.5, kins=kins, unary=folded)
     for k in range(len(batch.pairs)):
         for mover in (0, 1):
             assert np.array_equal(batch.swept(k, mover), single.swept(k, mover)), (k, mover)
@@ -355,8 +358,46 @@ def test_batch_swept_with_bounds_matches_the_pairwise_tables_on_random_layouts(s
             assert np.array_equal(batch.swept(k, mover), single.swept(k, mover)), (k, mover)
         assert np.array_equal(batch.static(k), single.static(k)), k
         sa, sb = KinematicsArrays(kins[a]).segments, KinematicsArrays(kins[b]).segments + (bases[b] - bases[a])
-        d, exact = _far_bounds(sa, sb, 2 * buffer + 1.0)
+        d, exact, d_t, exact_t = _far_bounds(sa, sb, 2 * buffer + 1.0)
+        assert np.array_equal(d_t, d.T) and np.array_equal(exact_t, exact.T)
         true = single.distances(k)
         assert np.all(d[~exact] <= true[~exact]) and np.allclose(d[exact], true[exact], rtol=0, atol=1e-9)
         bounded += int((~exact).sum())
     assert (bounded > 0) == bounds and len(batch.pairs) > 5
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("kin", [Rotary(10.0, 12), AlphaBeta(4.0, 8.0, 8, 5, (0.0, 180.0)),
+                                 AlphaBeta(3.0, 6.0, 9, 4, (-180.0, 150.0), alpha_range=(0.0, 300.0))],
+                         ids=["rotary-wrapping", "alpha-beta", "alpha-stops"])
+@pytest.mark.parametrize("mover", [0, 1])
+def test_reversed_moves_equal_their_own_turns(kin, mover):
+    """A reversed move's rows are copied from its forward move (:meth:`Kinematics.reversed_moves`,
+    :func:`.batch.fill_reversed`): they equal the reversed turn decided on its own
+    (:func:`turn_collides` from the far end, turning the other way), across wraps and next to
+    hard stops, where the move is blocked."""
+    from supcoord.geometry.motion import turn_collides
+
+    base_b, bsum = np.array([11.0, 5.0]), 2.5
+    table = swept_table(kin, (0, 0), base_b, bsum, mover)
+    pos = kin.all_positions()
+    reversed_moves = kin.reversed_moves()
+    assert reversed_moves and all(kin.moves()[r] == (kin.moves()[m][0], -kin.moves()[m][1])
+                                  for r, m in reversed_moves.items())
+    checked = stops = 0
+    for r in reversed_moves:
+        joint, delta = kin.moves()[r]
+        nxt, ok = kin.step_array(pos, joint, delta)
+        ii, jj = (g.ravel() for g in np.meshgrid(np.nonzero(ok)[0], np.arange(len(pos)), indexing="ij"))
+        if mover == 0:
+            direct = turn_collides(kin, (0, 0), pos[ii], joint, np.full(len(ii), delta), kin, base_b, pos[jj], bsum)
+            got = table[r, ii, jj]
+        else:
+            direct = turn_collides(kin, base_b, pos[ii], joint, np.full(len(ii), delta), kin, (0, 0), pos[jj], bsum)
+            got = table[r, jj, ii]
+        assert np.array_equal(got, direct), (r, int(np.count_nonzero(got != direct)))
+        stopped = np.nonzero(~ok)[0]
+        assert np.all(table[r, stopped] if mover == 0 else table[r][:, stopped])
+        checked += len(ii)
+        stops += len(stopped)
+    assert checked > 100 and (stops > 0) == any(not j.wraps for j in kin.joints)

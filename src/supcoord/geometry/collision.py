@@ -39,7 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from .kinematics import MAX_POSITIONS, Kinematics
-from .batch import KinematicsArrays, batch_swept
+from .batch import KinematicsArrays, batch_swept, fill_reversed, reversals
 from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
 from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
 from .pairs import colliding_pairs, neighbour_pairs
@@ -113,6 +113,8 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
     entries: ``min(d0, d1) < r`` collides, and since the distance changes at rate at most
     ``L`` (the sweep length), ``d(t) ≥ max(d0 − tL, d1 − (1−t)L) ≥ (d0 + d1 − L)/2``, so
     ``(d0 + d1 − L)/2 ≥ r`` is free; the rest is decided exactly by :func:`turn_collides`.
+    A reversed move travels the poses of its forward move (:meth:`.Kinematics.reversed_moves`),
+    so its rows are copied from the forward move's (:func:`.batch.fill_reversed`).
     """
     kin_b = kin_b or kin
     if distances is None:
@@ -121,7 +123,11 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
     mk, sk = (kin, kin_b) if mover == 0 else (kin_b, kin)
     pm, ps = mk.all_positions(), sk.all_positions()
     out = np.ones((len(mk.moves()), len(pm), len(ps)), dtype=bool)
+    steps = reversals(mk)
+    reversed_ = {r for r, *_ in steps}
     for m, (joint, delta) in enumerate(mk.moves()):
+        if m in reversed_:
+            continue
         nxt, ok = mk.step_array(pm, joint, delta)
         valid = np.nonzero(ok)[0]
         d = np.zeros(mk.n_joints)
@@ -137,6 +143,7 @@ def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: i
             bm, bs = (base_a, base_b) if mover == 0 else (base_b, base_a)
             res[ii, jj] = turn_collides(mk, bm, pm[valid][ii], joint, delta, sk, bs, ps[jj], bsum)
         out[m, valid] = res
+    fill_reversed(out, steps)
     return out if mover == 0 else np.swapaxes(out, 1, 2)
 
 
@@ -269,11 +276,18 @@ class CollisionTables:
             out = self._dist.put(key, distance_table(self._kin(ua), (0.0, 0.0), offset, self._kin(ub)))
         return out
 
+    @staticmethod
+    def _mirror_key(key: tuple) -> tuple:
+        """The key of the same swept table seen from the other robot: ``b`` moving past ``a`` at
+        offset ``o`` is ``a`` moving past ``b`` at ``−o``, stored transposed."""
+        (ox, oy), bsum, ua, ub, mover = key
+        return ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
+
     def swept(self, k: int, mover: int) -> np.ndarray:
         key = self._key(k) + (mover,)
         if key not in self._bits:
             (ox, oy), bsum, ua, ub = key[:4]
-            mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
+            mirror = self._mirror_key(key)
             if mirror in self._bits:  # b moving past a at offset o is a moving past b at −o
                 return np.swapaxes(self._bits.get(mirror), 1, 2)
             table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
@@ -285,8 +299,7 @@ class CollisionTables:
         """The stored key of ``swept(k, mover)`` and whether it is stored transposed (mirror)."""
         key = self._key(k) + (mover,)
         if key not in self._bits:
-            (ox, oy), bsum, ua, ub = key[:4]
-            mirror = ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
+            mirror = self._mirror_key(key)
             if mirror in self._bits:
                 return mirror, True
             self.swept(k, mover)
@@ -306,10 +319,14 @@ class CollisionTables:
             return self._bits.column(key, m, i) if mirrored else self._bits.row(key, m, i)
         return self._bits.row(key, m, j) if mirrored else self._bits.column(key, m, j)
 
-    def _fold_swept(self, k: int, mover: int, table: np.ndarray) -> np.ndarray:
+    def _fold_swept(self, k: int, mover: int, table: np.ndarray, rows_of_mover: bool = False) -> np.ndarray:
+        """``table`` (``swept(k, mover)``, or with ``rows_of_mover`` its transpose ``[m, j, i]``
+        for ``mover = 1``) with the unary tables folded in (class docstring)."""
         fa, fb = self._unary(k)
         if mover == 0:
             table |= (fa[1][:, :, None] if fa is not None else False) | (fb[0][None, None, :] if fb is not None else False)
+        elif rows_of_mover:
+            table |= (fb[1][:, :, None] if fb is not None else False) | (fa[0][None, None, :] if fa is not None else False)
         else:
             table |= (fb[1][:, None, :] if fb is not None else False) | (fa[0][None, :, None] if fa is not None else False)
         return table
@@ -333,7 +350,8 @@ class CollisionTables:
                 if key not in self._bits:
                     self._keep_static(k, static)
                 self._bits.put(key + (0,), self._fold_swept(k, 0, w0))
-                self._bits.put(key + (1,), self._fold_swept(k, 1, np.ascontiguousarray(w1)))
+                # b moving, in b's rows: what the mirrored pair stores (a moving past b at −o)
+                self._bits.put(self._mirror_key(key + (1,)), self._fold_swept(k, 1, w1, rows_of_mover=True))
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""

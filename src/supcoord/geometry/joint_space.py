@@ -83,6 +83,15 @@ class Kinematics:
         """The single-joint moves ``(joint, delta)``, ``delta ∈ {+1, −1}``, in a fixed order."""
         return [(j, d) for j in range(self.n_joints) for d in (+1, -1)]
 
+    def reversed_moves(self) -> dict[int, int]:
+        """``{r: m}``: move ``r`` is move ``m`` run backwards (same joint, opposite step, ``m < r``).
+
+        Move ``r`` from position ``i`` is inside the stops exactly when ``i = step(m, i0)`` for
+        some ``i0``, and then it travels the joint-space segment of ``m`` from ``i0`` the other
+        way: the same poses, so the same swept collisions (``W_r[step_m(i0), j] = W_m[i0, j]``)."""
+        index = {mv: n for n, mv in enumerate(self.moves())}
+        return {index[(j, d)]: index[(j, -d)] for j, d in self.moves() if d < 0}
+
     def step(self, q: Any, joint: int, delta: int) -> np.ndarray | None:
         """The position after one move, or ``None`` past a hard stop."""
         out, ok = self.step_array(q, joint, delta)
