@@ -35,7 +35,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import SupcoordError
 from .joint_space import Kinematics
-from .segments import segment_distance, segment_distance_xy
+from .segments import BLOCK, segment_distance, segment_distance_xy
 from .sweep import (
     MARGIN,
     _rotate,
@@ -56,17 +56,20 @@ _BOUND_SLACK = 1e-9
 #: bounds' extra numpy calls cost more than they save there: the APO wok at 13 × 7, 8,281
 #: entries, took 1.9 s longer to tabulate)
 BOUND_MIN_ENTRIES = 20_000
+#: open entries decided together (as :data:`.segments.BLOCK`: small temporaries are much faster)
+DECIDE_BLOCK = BLOCK
 
 
-def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float) -> tuple[np.ndarray, ...]:
+def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float,
+                scratch: dict | None = None) -> tuple[np.ndarray, ...]:
     """``(D, exact, Dᵀ, exactᵀ)``: ``D[i, j]`` the distance between segments ``sa[i]`` and
     ``sb[j]`` where ``exact[i, j]`` (everywhere below :data:`BOUND_MIN_ENTRIES` entries),
-    elsewhere ``threshold``, a lower bound: there ``|m_a − m_b| ≥ threshold + h_a + h_b``
-    (midpoints ``m``, half-lengths ``h``; every point of a segment lies within ``h`` of its
-    midpoint), tested on squares with :data:`_BOUND_SLACK` to spare.  The candidates of that
-    test are the midpoint pairs within ``threshold + max h_a + max h_b`` (a k-d tree,
-    :meth:`scipy.spatial.cKDTree.sparse_distance_matrix`, with room for its rounding); the
-    transposes are built directly (the other robot moving reads them row by row)."""
+    elsewhere ``threshold``, a lower bound: there the midpoints are farther apart than
+    ``threshold + max h_a + max h_b`` (half-lengths ``h``; every point of a segment lies within
+    ``h`` of its midpoint) with :data:`_BOUND_SLACK` to spare.  The near midpoint pairs come
+    from a k-d tree (:meth:`scipy.spatial.cKDTree.sparse_distance_matrix`, with room for its
+    rounding); the transposes are built directly (the other robot moving reads them by rows).
+    ``scratch``: arrays to reuse, by shape and type (valid until the next call with it)."""
     if len(sa) * len(sb) < BOUND_MIN_ENTRIES:
         dist = segment_distance(sa[:, None, 0], sa[:, None, 1], sb[None, :, 0], sb[None, :, 1])
         return dist, np.ones(dist.shape, dtype=bool), np.ascontiguousarray(dist.T), np.ones(dist.shape[::-1], dtype=bool)
@@ -76,21 +79,18 @@ def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float) -> tuple[np.nd
     radius = (float(ha.max()) + (threshold + _BOUND_SLACK) + float(hb.max())) * (1 + 1e-9) + 1e-9
     near = cKDTree(ma).sparse_distance_matrix(cKDTree(mb), radius, output_type="ndarray")
     i, j = near["i"].astype(np.int64), near["j"].astype(np.int64)
-    dx = ma[i, 0] - mb[j, 0]
-    dy = ma[i, 1] - mb[j, 1]
-    dx *= dx
-    dy *= dy
-    dx += dy
-    reach = (ha[i] + (threshold + _BOUND_SLACK)) + hb[j]
-    reach *= reach
-    keep = dx < reach
-    i, j = i[keep], j[keep]
-    values = segment_distance_xy(*_coords(sa)[:, i], *_coords(sb)[:, j])
+    ca, cb = _coords(sa), _coords(sb)
+    values = np.empty(len(i))
+    for lo in range(0, len(i), BLOCK):
+        part = slice(lo, lo + BLOCK)
+        values[part] = segment_distance_xy(*ca[:, i[part]], *cb[:, j[part]])
+    scratch = {} if scratch is None else scratch
     out = []
-    for rows, cols, shape in ((i, j, (len(sa), len(sb))), (j, i, (len(sb), len(sa)))):
-        dist = np.full(shape, float(threshold))
+    for side, (rows, cols, shape) in enumerate(((i, j, (len(sa), len(sb))), (j, i, (len(sb), len(sa))))):
+        dist, exact = _buffer(scratch, f"dist{side}", shape, float), _buffer(scratch, f"exact{side}", shape)
+        dist.fill(threshold)  # a fresh array would cost a new memory map and its page faults
         dist[rows, cols] = values
-        exact = np.zeros(shape, dtype=bool)
+        exact.fill(False)
         exact[rows, cols] = True
         out += [dist, exact]
     return tuple(out)
@@ -188,8 +188,16 @@ class KinematicsArrays:
                               axis=-1)
 
 
+def _buffer(scratch: dict, name: str, shape: tuple, dtype: Any = bool) -> np.ndarray:
+    """An array ``scratch[name]`` of ``shape`` and ``dtype``, made once and reused."""
+    key = (name, shape, np.dtype(dtype).str)
+    if key not in scratch:
+        scratch[key] = np.empty(shape, dtype=dtype)
+    return scratch[key]
+
+
 def _prefilter(km: KinematicsArrays, d: np.ndarray, exact: np.ndarray, bsum: float, threshold: float,
-               w: np.ndarray) -> tuple[np.ndarray, ...]:
+               w: np.ndarray, scratch: dict) -> tuple[np.ndarray, ...]:
     """The end-point prefilter of every computed move at once: ``w[c, i, j]`` set True where either
     end pose collides (``d0 < bsum`` or ``d1 < bsum``) or the move runs into a stop; the entries
     left open ``(flat, rows, d0, d1)`` are those neither that nor ``(d0 + d1 − L)/2 ≥ bsum``
@@ -214,15 +222,16 @@ def _prefilter(km: KinematicsArrays, d: np.ndarray, exact: np.ndarray, bsum: flo
         flat = np.flatnonzero(~decided)
         row = flat // n_other
         return flat, row, d.reshape(-1)[flat % d.size], d1.reshape(-1)[flat]
-    hit = d < bsum  # exact wherever it holds: a bound is never below the threshold
+    # the intermediate tables reuse ``scratch`` (fresh ones cost memory maps and page faults)
+    hit = np.less(d, bsum, out=_buffer(scratch, "hit", d.shape))  # exact where it holds: bounds are not below
     np.take(hit, km.nxt_or_self, axis=0, out=w, mode="clip")  # (C, P, P')
     w |= hit
     w |= km.stop[:, :, None]
-    close = d < threshold + _BOUND_SLACK
+    close = np.less(d, threshold + _BOUND_SLACK, out=_buffer(scratch, "close", d.shape))
     close &= exact
-    cand = close[km.nxt_or_self]
+    cand = np.take(close, km.nxt_or_self, axis=0, out=_buffer(scratch, "cand", w.shape), mode="clip")
     cand |= close
-    cand &= ~w
+    np.greater(cand, w, out=cand)  # cand and not w
     flat = np.flatnonzero(cand)
     row, j = np.divmod(flat, n_other)
     m, i = np.divmod(row, n_pos)
@@ -323,33 +332,36 @@ class _OpenEntries:
         bsum = spread(self.bsums)
         krow = spread(self.at_kin) + row
         ocol = spread(self.at_other) + np.concatenate(self.cols)
-        # the annulus, then the bisected turn, in the mover's frame
+        trow = spread(self.at_turn) + row
+        mrow = spread(self.at_mover) + row % spread(self.heights)
         kins = self.kins
-        r_min = np.concatenate([k.r_min.reshape(-1) for k in kins])[krow]
-        r_max = np.concatenate([k.r_max.reshape(-1) for k in kins])[krow]
-        centre = np.concatenate([k.centre.reshape(-1, 2) for k in kins])[krow]
-        frame = np.concatenate(self.frames)
-        todo = np.nonzero(~annulus_clear(centre, r_min, r_max, frame[ocol].reshape(-1, 2, 2), bsum))[0]
-        kr, oc = krow[todo], ocol[todo]
+        r_min = np.concatenate([k.r_min.reshape(-1) for k in kins])
+        r_max = np.concatenate([k.r_max.reshape(-1) for k in kins])
+        centre = np.concatenate([k.centre.reshape(-1, 2) for k in kins])
         poses = np.concatenate([k.poses.reshape(4, -1, 2 ** _DEPTH + 1) for k in kins], axis=1)
+        slack = np.concatenate([k.slack.reshape(-1, _DEPTH + 1) for k in kins])
+        frame = np.concatenate(self.frames)
         frame_xy = np.ascontiguousarray(frame.T)
-        slack = np.concatenate([k.slack.reshape(-1, _DEPTH + 1) for k in kins])[kr]
-
-        def pose_distance(e: np.ndarray, k: np.ndarray) -> np.ndarray:
-            return segment_distance_xy(*poses[:, kr[e], k], *frame_xy[:, oc[e]])
-
-        hit, open_ = bisect_turns(d0[todo], d1[todo], slack, bsum[todo], pose_distance, _DEPTH)
+        movers, centres = np.concatenate(self.movers), np.concatenate(self.centres)
+        angles, others = np.concatenate(self.angles), np.concatenate(self.others)
         result = np.zeros(len(d0), dtype=bool)
-        result[todo[hit]] = True
-        exact = todo[open_]
-        if len(exact):  # the closed form, on the very numbers the tables always used
-            trow = spread(self.at_turn)[exact] + row[exact]
-            i = row[exact] % spread(self.heights)[exact]
-            mrow = spread(self.at_mover)[exact] + i
-            clearance = rotation_clearance(np.concatenate(self.movers)[mrow], np.concatenate(self.centres)[trow],
-                                           np.concatenate(self.angles)[trow],
-                                           np.concatenate(self.others)[ocol[exact]])
-            result[exact] = clearance < bsum[exact]
+        for lo in range(0, len(d0), DECIDE_BLOCK):
+            e = slice(lo, lo + DECIDE_BLOCK)
+            # the annulus, then the bisected turn, in the mover's frame
+            kr, oc = krow[e], ocol[e]
+            todo = np.nonzero(~annulus_clear(centre[kr], r_min[kr], r_max[kr], frame[oc].reshape(-1, 2, 2), bsum[e]))[0]
+            kr, oc = kr[todo], oc[todo]
+
+            def pose_distance(t: np.ndarray, k: np.ndarray) -> np.ndarray:
+                return segment_distance_xy(*poses[:, kr[t], k], *frame_xy[:, oc[t]])
+
+            hit, open_ = bisect_turns(d0[e][todo], d1[e][todo], slack[kr], bsum[e][todo], pose_distance, _DEPTH)
+            result[lo + todo[hit]] = True
+            exact = lo + todo[open_]
+            if len(exact):  # the closed form, on the very numbers the tables always used
+                clearance = rotation_clearance(movers[mrow[exact]], centres[trow[exact]], angles[trow[exact]],
+                                               others[ocol[exact]])
+                result[exact] = clearance < bsum[exact]
         at = 0  # the open entries are False so far: set the collisions
         for (w, f), n in zip(self.jobs, counts):
             w.reshape(-1)[f[result[at:at + n]]] = True
@@ -366,16 +378,17 @@ def batch_swept(arrays_a: list[KinematicsArrays], arrays_b: list[KinematicsArray
     offsets = np.asarray(offsets, float).reshape(-1, 2)
     computed: list[tuple[np.ndarray, np.ndarray, KinematicsArrays, np.ndarray, KinematicsArrays]] = []
     open_entries = _OpenEntries()
+    scratch: dict = {}
     for ka, kb, off, bsum in zip(arrays_a, arrays_b, offsets, np.asarray(bsums, float)):
         sa, sb = ka.segments, kb.segments + off
         # exact where either end pose could be near or the end-point bound could fail
         threshold = bsum + max(ka.length.max(initial=0.0), kb.length.max(initial=0.0)) / 2
-        dist, known, dist_t, known_t = _far_bounds(sa, sb, threshold)
+        dist, known, dist_t, known_t = _far_bounds(sa, sb, threshold, scratch)
         tables = []
         for km, seg_m, seg_s, shift, d, exact in ((ka, sa, sb, 0.0, dist, known),
                                                   (kb, sb, sa, off, dist_t, known_t)):
             table, w = km.empty_table(len(seg_s))
-            flat, row, e0, e1 = _prefilter(km, d, exact, bsum, threshold, w)
+            flat, row, e0, e1 = _prefilter(km, d, exact, bsum, threshold, w, scratch)
             if len(flat):
                 flat, row, e0, e1 = _exact_ends(flat, row, e0, e1, exact, km, seg_m, seg_s, bsum)
             open_entries.add(table, km, seg_m, seg_s, shift, bsum, flat, row, e0, e1)

