@@ -7,7 +7,7 @@ robot-control software jaeger (``src/jaeger/kaiju.py``, ``etc/jaeger_APO.yml``) 
 and writes plain JSON that supcoord (or anything else) can read without kaiju::
 
     PY=$KAIJU_PYTHON   # a venv with kaiju: ../shared/tools/install-kaiju.sh PYTHON
-    $PY benchmarks/kaiju_side.py instances --out DIR --seeds 10 --grids hex61,hex127,hex547,apo
+    $PY benchmarks/kaiju_side.py instances --out DIR --seeds 10 --grids hex61,hex127,hex547,apo,lco
     $PY benchmarks/kaiju_side.py plan --instance DIR/hex61_s0.json --planner greedy \
         --direction fold --out PATH.json
     $PY benchmarks/kaiju_side.py replay --instance DIR/hex61_s0.json --angles PLAN.json \
@@ -30,6 +30,9 @@ What kaiju does (file:line in sdss/kaiju 1.4.1, the installed version)
   fibre positions, alpha/beta offsets and dx/dy, buffer 2 (robotGrid.py:1112), 60
   fiducials with buffer 3 (robotGrid.py:1115-1120), 6 GFA segments hard-coded in kaiju with
   buffer 3 (robotGrid.py:1124-1152) and ``fiducialWatch`` robots (robotGrid.py:1154-1180).
+  ``lco``: ``RobotGridLCO`` (robotGrid.py:1252), the same on the LCO tables
+  (``lco/wok_calibs/duPontFlatCMM``); coordio reads both sites' tables (``WOKCALIB_DIR`` lists
+  one directory per site).
 * Step and tolerance as jaeger runs kaiju (jaeger_APO.yml ``kaiju``): ``RobotGrid(stepSize=
   0.1, epsilon=0.1*2, seed)``, ``setCollisionBuffer(2.0)``, folded lattice
   (alpha, beta) = (10, 170) deg, speed 2 RPM = 12 deg/s, smooth_points 21, greed 0.7,
@@ -88,6 +91,9 @@ PHOBIA = 0.6
 MDP2_TRIES = 5
 PITCH = 22.4
 HEX_DIA = {"hex61": 9, "hex127": 13, "hex547": 27}
+#: the real woks: grid name -> the tables' file prefix, and their fps_calibrations directories
+SITES = {"apo": "apo", "lco": "lco"}
+CALIB_DIRS = {"apo": "sloanFlatCMM", "lco": "duPontFlatCMM"}
 SHARED_CALIB = str(Path(__file__).resolve().parents[2] / "shared" / "instruments" / "sdss-v")
 FWC0, FWC1 = 41.2853, -1.3085  # robotGrid.cpp:22-23
 
@@ -101,19 +107,24 @@ _K = None  # the kaiju modules, imported lazily (WOKCALIB_DIR must be set first)
 
 
 def _kaiju(wokcalib: str | None = None):
-    """Import kaiju with coordio's calibration pointed at the APO tables."""
+    """Import kaiju with coordio's calibration pointed at the APO and LCO tables (coordio
+    concatenates the directories listed in ``WOKCALIB_DIR``, one per site)."""
     global _K
     if _K is not None:
         return _K
     if wokcalib is None:
         wokcalib = os.environ.get("WOKCALIB_DIR")
     if not wokcalib:
-        wokcalib = os.path.join(tempfile.gettempdir(), "kaiju_side_wokcalib_apo")
-        os.makedirs(wokcalib, exist_ok=True)
-        for name in ("positionerTable", "wokCoords", "fiducialCoords", "gfaCoords"):
-            link = os.path.join(wokcalib, name + ".csv")
-            if not os.path.exists(link):
-                os.symlink(os.path.join(SHARED_CALIB, f"apo_{name}.csv"), link)
+        dirs = []
+        for site in SITES.values():
+            path = os.path.join(tempfile.gettempdir(), f"kaiju_side_wokcalib_{site}")
+            os.makedirs(path, exist_ok=True)
+            for name in ("positionerTable", "wokCoords", "fiducialCoords", "gfaCoords"):
+                link = os.path.join(path, name + ".csv")
+                if not os.path.exists(link):
+                    os.symlink(os.path.join(SHARED_CALIB, f"{site}_{name}.csv"), link)
+            dirs.append(path)
+        wokcalib = ":".join(dirs)
     os.environ["WOKCALIB_DIR"] = wokcalib
     warnings.simplefilter("ignore")
     import coordio
@@ -165,9 +176,10 @@ def build_grid(kind: str, seed: int, ang_step: float = ANG_STEP, buffer: float =
                         "ap_beta_xy_mm": list(map(float, cdef.AP_BETA_XY)),
                         "collision_seg_beta_xy_mm": _seg_beta_xy(2.0, float(cdef.BETA_LEN))}
         rg.initGrid()
-    elif kind == "apo":
-        rg = K["rg"].RobotGridAPO(stepSize=ang_step, epsilon=eps, seed=seed)
-        pt = cdef.calibration.positionerTable.loc["APO"].reset_index()
+    elif kind in SITES:
+        grid_class = K["rg"].RobotGridAPO if kind == "apo" else K["rg"].RobotGridLCO
+        rg = grid_class(stepSize=ang_step, epsilon=eps, seed=seed)
+        pt = cdef.calibration.positionerTable.loc[kind.upper()].reset_index()
         for _, row in pt.iterrows():
             geo[int(row.positionerID)] = {
                 "alpha_arm_mm": float(row.alphaArmLen),
@@ -177,14 +189,14 @@ def build_grid(kind: str, seed: int, ang_step: float = ANG_STEP, buffer: float =
                 "collision_seg_beta_xy_mm": _seg_beta_xy(2.0, float(cdef.BETA_LEN)),
                 "table_row": int(_)}
     else:
-        _fail(f"unknown grid {kind!r} (hex61, hex127, hex547, apo)")
+        _fail(f"unknown grid {kind!r} (hex61, hex127, hex547, apo, lco)")
     rg.setCollisionBuffer(buffer)  # as jaeger's get_robot_grid
     return rg, geo
 
 
 def robot_order(rg, kind: str, geo: dict) -> list[int]:
-    """Instance robot order: hex = kaiju id (hexFromDia order); apo = calibration table rows."""
-    if kind == "apo":
+    """Instance robot order: hex = kaiju id (hexFromDia order); apo, lco = calibration table rows."""
+    if kind in SITES:
         return sorted(rg.robotDict, key=lambda rid: geo[rid]["table_row"])
     return sorted(rg.robotDict)
 
@@ -308,10 +320,10 @@ def make_instance(kind: str, seed: int) -> dict:
         "builder": (f"kaiju.utils.hexFromDia({HEX_DIA[kind]}, pitch={PITCH}) + RobotGrid.addRobot("
                     "id, str(id), [x, y, 0], True) defaults; initGrid(); setCollisionBuffer(2.0)"
                     if kind in HEX_DIA else
-                    "kaiju.robotGrid.RobotGridAPO on sdss/fps_calibrations apo/wok_calibs/"
-                    "sloanFlatCMM (release 2025.12.04, commit e7867464); setCollisionBuffer(2.0)"),
+                    f"kaiju.robotGrid.RobotGrid{kind.upper()} on sdss/fps_calibrations {kind}/wok_calibs/"
+                    f"{CALIB_DIRS[kind]} (release 2025.12.04, commit e7867464); setCollisionBuffer(2.0)"),
         "robot_order": ("kaiju robot id = hexFromDia order (lower-left first, row by row)"
-                        if kind in HEX_DIA else "rows of positionerTable.csv (APO)"),
+                        if kind in HEX_DIA else f"rows of positionerTable.csv ({kind.upper()})"),
         "ang_step_deg": ANG_STEP, "epsilon": ANG_STEP * EPSILON_FACTOR,
         "max_displacement_mm": float(rg.maxDisplacement),
         "max_path_steps": int(rg.maxPathSteps),
@@ -358,10 +370,10 @@ def make_instance(kind: str, seed: int) -> dict:
                    "folded_kaiju_collided_robots": int(n_folded),
                    "decollide_seconds": t_dec},
     }
-    if kind == "apo":
+    if kind in SITES:
         inst["fps_calibrations"] = {"release": "2025.12.04",
                                     "commit": "e7867464fe410188e8aa93cbcbd4eb113afed005",
-                                    "dir": "apo/wok_calibs/sloanFlatCMM",
+                                    "dir": f"{kind}/wok_calibs/{CALIB_DIRS[kind]}",
                                     "WOKCALIB_DIR": K["wokcalib"]}
     return inst
 
@@ -721,7 +733,7 @@ def main(argv=None) -> None:
     p = sub.add_parser("instances", help="kaiju grids with kaiju's random decollided targets")
     p.add_argument("--out", required=True)
     p.add_argument("--seeds", type=int, default=10)
-    p.add_argument("--grids", default="hex61,hex127,hex547,apo")
+    p.add_argument("--grids", default="hex61,hex127,hex547,apo,lco")
     p = sub.add_parser("plan", help="run kaiju's planner on an instance")
     p.add_argument("--instance", required=True)
     p.add_argument("--planner", choices=["greedy", "mdp", "mdp1"], default="greedy",

@@ -5,7 +5,7 @@
 
     source .venv/bin/activate
     PY=$KAIJU_PYTHON   # a venv with kaiju: ../shared/tools/install-kaiju.sh PYTHON
-    $PY benchmarks/kaiju_side.py instances --out /tmp/kaiju_instances --seeds 10 --grids hex61,hex127,apo
+    $PY benchmarks/kaiju_side.py instances --out /tmp/kaiju_instances --seeds 10 --grids hex61,hex127,apo,lco
     nice python benchmarks/vs_kaiju.py --grids hex61 --seeds 0-2 --timeout 300 \
         --reuse /tmp/kaiju_meas --out benchmarks/results/vs_kaiju [--append] [--steps 37x19]
 
@@ -31,8 +31,9 @@ Problem built for supcoord:
   are invariant under the rotation, so the angles mean the same), alpha-beta kinematics with
   alpha 7.4 mm, beta 14.7276 mm (kaiju's beta collision segment from the elbow), alpha range
   [0, 360], beta range [0, 180], buffer 2.0 mm.
-* apo: ``{"kind": "instrument", "name": "sdss-v-apo"}`` (kaiju's geometry, fiducials, GFAs
-  and fiducial rule built in; robots in positionerTable row order = the instance's order).
+* apo, lco: ``{"kind": "instrument", "name": "sdss-v-apo"}`` (or ``sdss-v-lco``; kaiju's
+  geometry, fiducials, GFAs and fiducial rule built in; robots in positionerTable row order =
+  the instance's order). ``--timeout-apo`` bounds both woks.
 * ``collision.margin`` = kaiju's maxDisplacement at its 0.1 deg step (0.0782 mm): kaiju
   flags two robots closer than 4.0 + 0.0782 mm, so supcoord is asked to keep that distance;
   ``obstacle_margin`` 0 on the wok (kaiju flags a robot closer than 5.0 mm to a fiducial or
@@ -99,8 +100,8 @@ def build_problem(inst: dict, direction: str, steps: tuple[int, int] | None) -> 
                "alpha_range": [0, 360], "beta_range": [0, 180]}
         prob = {"layout": {"kind": "points", "xy": xy}, "kinematics": kin,
                 "collision": {"buffer": 2.0, "margin": MARGIN}}
-    elif inst["grid"] == "apo":
-        prob = {"layout": {"kind": "instrument", "name": "sdss-v-apo"},
+    elif inst["grid"] in ("apo", "lco"):
+        prob = {"layout": {"kind": "instrument", "name": f"sdss-v-{inst['grid']}"},
                 "collision": {"margin": MARGIN, "obstacle_margin": 0.0}}
         if kin:
             prob["kinematics"] = kin
@@ -157,7 +158,7 @@ def supcoord_row(args, inst, direction, work) -> tuple[dict, dict]:
         json.dump(build_problem(inst, direction, args.steps), f)
     if os.path.exists(plan_path):
         os.remove(plan_path)
-    timeout = args.timeout_apo if inst["grid"] == "apo" else args.timeout
+    timeout = args.timeout_apo if inst["grid"] in ("apo", "lco") else args.timeout
     cmd = ["nice", args.supcoord, "solve", prob_path, "--out", plan_path, "--speed", str(SPEED),
            "--json", "-q", "--timeout", str(timeout), "--max-memory", args.max_memory]
     if args.improve is not None:
@@ -337,7 +338,7 @@ def write_md(path: str, data: dict) -> None:
           "motion s (12°/s) | kaiju smoothed s | peak RSS MB | kaiju replay flagged poses | "
           "supcoord check | motion ratio / mdp | CPU ratio / mdp |",
           "|" + "---|" * 17]
-    order = {"hex61": 0, "hex127": 1, "hex547": 2, "apo": 3}
+    order = {"hex61": 0, "hex127": 1, "hex547": 2, "apo": 3, "lco": 4}
     pl = {"supcoord": 0, "kaiju-greedy": 1, "kaiju-mdp": 2}
     for r in sorted(rows, key=lambda r: (order.get(r["grid"], 9), r["seed"], r["direction"] != "fold",
                                         pl.get(r["planner"], 9), r.get("steps", ""))):
@@ -387,7 +388,7 @@ def main(argv=None) -> None:
     ap.add_argument("--directions", default="fold,unfold")
     ap.add_argument("--planners", default="supcoord,greedy,mdp")
     ap.add_argument("--timeout", type=float, default=300, help="supcoord solve timeout, s (hex grids)")
-    ap.add_argument("--timeout-apo", type=float, default=600, help="supcoord solve timeout on apo, s")
+    ap.add_argument("--timeout-apo", type=float, default=600, help="supcoord solve timeout on the woks (apo, lco), s")
     ap.add_argument("--max-memory", default="8G")
     ap.add_argument("--steps", default=None, help="alpha_steps x beta_steps, e.g. 13x7 (default 37x19)")
     ap.add_argument("--improve", type=int, default=None,
