@@ -221,3 +221,19 @@ def test_segments_module_is_the_collision_distance():
     assert collision.point_segment_distance is segments.point_segment_distance
     assert float(segments.point_segment_distance([1, 1], [0, 0], [2, 0])) == 1.0
     assert float(segments.point_segment_distance([3, 4], [0, 0], [0, 0])) == 5.0  # a point-like segment
+
+
+@pytest.mark.timeout(30)
+def test_segment_distance_in_blocks_equals_one_pass():
+    """Long inputs go in blocks (:data:`.segments.BLOCK`): the same numbers as one pass, and as
+    the interleaved ``(..., 2)`` form."""
+    from supcoord.geometry import segments
+
+    rng = np.random.default_rng(4)
+    n = 2 * segments.BLOCK + 1234
+    c = rng.normal(size=(8, n)) * 10
+    c[2:4, :50] = c[0:2, :50]  # point-like segments
+    blocked = segments.segment_distance_xy(*c)
+    assert np.array_equal(blocked, segments._segment_distance_xy(*c))
+    assert np.array_equal(blocked, segment_distance(c[0:2].T, c[2:4].T, c[4:6].T, c[6:8].T))
+    assert (blocked == 0).any() and (blocked > 0).any()

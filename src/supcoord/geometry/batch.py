@@ -318,8 +318,8 @@ class _OpenEntries:
         self.n_other += n_other_pos
 
     def decide(self) -> None:
-        """The annulus, the bisected turn, then the closed form, over every open entry at once;
-        the collisions are set in their tables."""
+        """The annulus, the bisected turn, then the closed form, over the open entries of every
+        table, :data:`DECIDE_BLOCK` at a time; the collisions are set in their tables."""
         if not self.jobs:
             return
         counts = np.asarray(self.counts)
@@ -352,7 +352,7 @@ class _OpenEntries:
             todo = np.nonzero(~annulus_clear(centre[kr], r_min[kr], r_max[kr], frame[oc].reshape(-1, 2, 2), bsum[e]))[0]
             kr, oc = kr[todo], oc[todo]
 
-            def pose_distance(t: np.ndarray, k: np.ndarray) -> np.ndarray:
+            def pose_distance(t: np.ndarray, k: np.ndarray, kr: np.ndarray = kr, oc: np.ndarray = oc) -> np.ndarray:
                 return segment_distance_xy(*poses[:, kr[t], k], *frame_xy[:, oc[t]])
 
             hit, open_ = bisect_turns(d0[e][todo], d1[e][todo], slack[kr], bsum[e][todo], pose_distance, _DEPTH)

@@ -74,6 +74,7 @@ def segment_distance_xy(ax: Any, ay: Any, bx: Any, by: Any, cx: Any, cy: Any, dx
 
 
 def _segment_distance_xy(ax, ay, bx, by, cx, cy, dx, dy):
+    """:func:`segment_distance_xy` in one pass (the module docstring's formula)."""
     d = np.minimum(np.minimum(_psd(ax, ay, cx, cy, dx, dy), _psd(bx, by, cx, cy, dx, dy)),
                    np.minimum(_psd(cx, cy, ax, ay, bx, by), _psd(dx, dy, ax, ay, bx, by)))
     ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
