@@ -45,7 +45,7 @@ from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefil
 from .pairs import colliding_pairs, neighbour_pairs
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
-from .table_store import PackedTables, RecentArrays
+from .table_store import PackedTables, RecentArrays, release_free_heap
 
 __all__ = [
     "segment_distance",
@@ -352,6 +352,8 @@ class CollisionTables:
                 self._bits.put(key + (0,), self._fold_swept(k, 0, w0))
                 # b moving, in b's rows: what the mirrored pair stores (a moving past b at −o)
                 self._bits.put(self._mirror_key(key + (1,)), self._fold_swept(k, 1, w1, rows_of_mover=True))
+            del done
+            release_free_heap()  # the chunk's full tables are gone; only their bits stay
 
     def simultaneous(self, k: int) -> np.ndarray:
         """:func:`simultaneous_table` of pair ``k`` (``[u, v, i, j]``, ``u``/``v`` = 0 for standing)."""

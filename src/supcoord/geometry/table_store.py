@@ -22,12 +22,34 @@ that shares it.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 from collections import OrderedDict
-from typing import Hashable
+from typing import Any, Hashable
 
 import numpy as np
 
-__all__ = ["RecentArrays", "PackedTables"]
+__all__ = ["RecentArrays", "PackedTables", "release_free_heap"]
+
+_TRIM: list[Any] = []  # glibc's malloc_trim, or None where there is none (looked up once)
+
+
+def release_free_heap() -> None:
+    """Return the C heap's free pages to the system: glibc's ``malloc_trim(0)``, nothing on
+    other C libraries.  Once glibc has raised its memory-map threshold, numpy's tables of a
+    few MB come from the heap, and the small packed tables kept between them stop it from
+    shrinking: after building the APO wok's tables at 37 × 19 the process held 4.7 GB, of
+    which 2.3 GB were such free pages (2.4 GB after a trim).  Dask's workers trim the same way."""
+    if not _TRIM:
+        trim = None
+        try:
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+            trim = getattr(libc, "malloc_trim", None)
+        except OSError:
+            pass
+        _TRIM.append(trim)
+    if _TRIM[0] is not None:
+        _TRIM[0](0)
 
 
 class RecentArrays:

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..bdd.context import BDD, Context
 from ..geometry.kinematics import Kinematics
-from ..geometry.table_store import PackedTables
+from ..geometry.table_store import PackedTables, release_free_heap
 from ..problems.problem import Problem
 
 __all__ = ["blocked_table", "blocked_bits", "blocked_column", "is_blocked", "conflict_graph", "pair_graph",
@@ -157,6 +157,7 @@ def conflict_graph(problem: Problem) -> Adjacency:
         if problem.robot_kinematics is not None or problem.unary():  # few shared tables: many pairs per call
             problem.tables().prepare(range(len(problem.pairs)))
         blocking = [k for k in range(len(problem.pairs)) if _move_blocked_any(problem, k)]
+        release_free_heap()  # the blocked tables' temporaries
         cache = problem.__dict__["_conflict_adj"] = _adjacency(problem, blocking)
     return cache
 
