@@ -387,7 +387,7 @@ def test_reversed_moves_equal_their_own_turns(kin, mover):
     checked = stops = 0
     for r in reversed_moves:
         joint, delta = kin.moves()[r]
-        nxt, ok = kin.step_array(pos, joint, delta)
+        _, ok = kin.step_array(pos, joint, delta)
         ii, jj = (g.ravel() for g in np.meshgrid(np.nonzero(ok)[0], np.arange(len(pos)), indexing="ij"))
         if mover == 0:
             direct = turn_collides(kin, (0, 0), pos[ii], joint, np.full(len(ii), delta), kin, base_b, pos[jj], bsum)
