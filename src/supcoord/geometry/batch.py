@@ -35,7 +35,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import SupcoordError
 from .joint_space import Kinematics
-from .segments import BLOCK, segment_distance, segment_distance_xy
+from .segments import BLOCK, segment_coords, segment_distance, segment_distance_xy
 from .sweep import (
     MARGIN,
     _rotate,
@@ -79,7 +79,7 @@ def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float,
     radius = (float(ha.max()) + (threshold + _BOUND_SLACK) + float(hb.max())) * (1 + 1e-9) + 1e-9
     near = cKDTree(ma).sparse_distance_matrix(cKDTree(mb), radius, output_type="ndarray")
     i, j = near["i"].astype(np.int64), near["j"].astype(np.int64)
-    ca, cb = _coords(sa), _coords(sb)
+    ca, cb = segment_coords(sa), segment_coords(sb)
     values = np.empty(len(i))
     for lo in range(0, len(i), BLOCK):
         part = slice(lo, lo + BLOCK)
@@ -94,11 +94,6 @@ def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float,
         exact[rows, cols] = True
         out += [dist, exact]
     return tuple(out)
-
-
-def _coords(segments: np.ndarray) -> np.ndarray:
-    """Segments ``(P, 2, 2)`` as contiguous coordinate rows ``(4, P)``: ``px, py, qx, qy``."""
-    return np.ascontiguousarray(segments.reshape(-1, 4).T)
 
 
 def reversals(kin: Kinematics) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
@@ -257,7 +252,7 @@ def _exact_ends(flat: np.ndarray, row: np.ndarray, e0: np.ndarray, e1: np.ndarra
         return flat, row, e0, e1
     e0, e1 = e0.copy(), e1.copy()
     r, jr = np.nonzero(redo)[0], j[redo]
-    cm, cs = _coords(seg_m), _coords(seg_s)[:, jr]
+    cm, cs = segment_coords(seg_m), segment_coords(seg_s)[:, jr]
     e0[r] = segment_distance_xy(*cm[:, i[r]], *cs)
     e1[r] = segment_distance_xy(*cm[:, i1[r]], *cs)
     lower = np.add(e0, e1)

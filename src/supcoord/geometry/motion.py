@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from .kinematics import Kinematics
-from .segments import segment_distance_xy
+from .segments import segment_coords, segment_distance_xy
 from .sweep import rotation_clearance
 
 __all__ = ["placed_segments", "turn_collides", "motion_collides", "prefiltered_motion_collides", "DEFAULT_TOL", "CHUNK"]
@@ -124,9 +124,9 @@ def _bisect_collides(kin_a: Kinematics, base_a: np.ndarray, qa: np.ndarray, da: 
         out = np.empty(len(e))
         for lo in range(0, len(e), CHUNK):
             i, tt = e[lo:lo + CHUNK], t[lo:lo + CHUNK, None]
-            sa = placed_segments(kin_a, base_a[i], qa[i] + tt * da[i]).reshape(-1, 4).T  # rows px, py, qx, qy
-            sb = placed_segments(kin_b, base_b[i], qb[i] + tt * db[i]).reshape(-1, 4).T
-            out[lo:lo + CHUNK] = segment_distance_xy(*np.ascontiguousarray(sa), *np.ascontiguousarray(sb))
+            sa = segment_coords(placed_segments(kin_a, base_a[i], qa[i] + tt * da[i]))
+            sb = segment_coords(placed_segments(kin_b, base_b[i], qb[i] + tt * db[i]))
+            out[lo:lo + CHUNK] = segment_distance_xy(*sa, *sb)
         return out
 
     grid = np.linspace(0.0, 1.0, coarse + 1)

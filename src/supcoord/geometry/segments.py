@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["segment_distance", "segment_distance_xy", "point_segment_distance"]
+__all__ = ["segment_distance", "segment_distance_xy", "segment_coords", "point_segment_distance"]
 
 
 #: elements per block of a long computation: numpy's temporaries then come from the heap instead
@@ -57,6 +57,12 @@ def segment_distance(p0: Any, p1: Any, q0: Any, q1: Any) -> np.ndarray:
     p0, p1, q0, q1 = (np.asarray(v, float) for v in (p0, p1, q0, q1))
     return segment_distance_xy(p0[..., 0], p0[..., 1], p1[..., 0], p1[..., 1],
                                q0[..., 0], q0[..., 1], q1[..., 0], q1[..., 1])
+
+
+def segment_coords(segments: np.ndarray) -> np.ndarray:
+    """Segments ``(..., 2, 2)`` as contiguous coordinate rows ``(4, N)``: ``px, py, qx, qy``
+    (the arguments of :func:`segment_distance_xy`)."""
+    return np.ascontiguousarray(np.reshape(segments, (-1, 4)).T)
 
 
 def segment_distance_xy(ax: Any, ay: Any, bx: Any, by: Any, cx: Any, cy: Any, dx: Any, dy: Any) -> np.ndarray:
