@@ -6,7 +6,8 @@ times ``problem.tables().prepare(range(PAIRS))`` (every robot has its own geomet
 pair has its own tables: :mod:`supcoord.geometry.batch`).  It reports seconds, ms a pair, the
 packed tables' size, the peak and final RSS, and a SHA-1 of every static and swept table it
 built: equal fingerprints mean the revisions computed the same Booleans.  The sources run one
-after the other in one invocation, so the ratios compare like with like.  Writes
+after the other in one invocation, so the ratios compare like with like.  Last, segment
+distances timed in one pass and in blocks (why the tables are computed in blocks).  Writes
 ``results/tables.md`` with the command, machine and load.
 
     python benchmarks/bench_tables.py                                  # 37x19, 512 pairs
@@ -53,6 +54,24 @@ print(json.dumps({"pairs": len(pairs), "wall_s": wall, "cpu_s": cpu, "packed_mib
 """
 
 
+BLOCKS = r"""
+import json, time
+import numpy as np
+from supcoord.geometry import segments
+rng = np.random.default_rng(0)
+out = {}
+for n in (4_000, 60_000, 500_000):
+    c = rng.normal(size=(8, n)) * 10
+    reps = max(1, 2_000_000 // n)
+    for name, f in (("one pass", segments._segment_distance_xy), ("blocks", segments.segment_distance_xy)):
+        t = time.perf_counter()
+        for _ in range(reps):
+            f(*c)
+        out[f"{n} {name}"] = (time.perf_counter() - t) / reps / n * 1e9
+print(json.dumps(out))
+"""
+
+
 def _export(rev: str, into: Path) -> Path:
     """``src`` and ``benchmarks`` of git revision ``rev`` in ``into``."""
     archive = into / f"{rev}.tar"
@@ -72,6 +91,7 @@ def main() -> None:
     ap.add_argument("--out", default=str(HERE / "results" / "tables.md"))
     args = ap.parse_args()
     sys.path.insert(0, str(ROOT / "src"))
+    from supcoord.geometry.segments import BLOCK as BLOCK_SIZE
     from supcoord.study.machine import code_version, cpu_model, load, machine
 
     rows = []
@@ -106,6 +126,15 @@ def main() -> None:
         lines.append(f"| {r['steps']} | {r['source']} | {r['pairs']} | {r['wall_s']:.1f} | {r['cpu_s']:.1f} | "
                      f"{1000 * r['wall_s'] / max(r['pairs'], 1):.1f} | {r['packed_mib']:.0f} | {r['peak_rss_mb']:.0f} | "
                      f"{r['final_rss_mb']:.0f} | {r['sha1']} |")
+    # why the tables are computed in blocks: numpy's long temporaries are fresh memory maps
+    out = subprocess.run([sys.executable, "-c", BLOCKS], capture_output=True, text=True, check=True,
+                         env={"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"})
+    per = json.loads(out.stdout.strip().splitlines()[-1])
+    lines += ["", f"Segment distances, ns each (`segments.segment_distance_xy` in blocks of "
+                  f"{BLOCK_SIZE:,}, against one pass over the whole arrays):", "",
+              "| segment pairs | one pass | blocks |", "|---|---|---|"]
+    for n in (4_000, 60_000, 500_000):
+        lines.append(f"| {n:,} | {per[f'{n} one pass']:.0f} | {per[f'{n} blocks']:.0f} |")
     Path(args.out).write_text("\n".join(lines) + "\n")
     print(f"written {args.out}")
 
