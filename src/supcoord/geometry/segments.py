@@ -26,7 +26,8 @@ __all__ = ["segment_distance", "segment_distance_xy", "segment_coords", "point_s
 
 
 #: elements per block of a long computation: numpy's temporaries then come from the heap instead
-#: of fresh memory maps and stay in cache (60,000 segment pairs: 114 ns each at once, 37 ns in blocks)
+#: of fresh memory maps and stay in cache (60,000 segment pairs: 116 ns each at once, 42 ns in
+#: blocks; ``benchmarks/bench_tables.py``)
 BLOCK = 8192
 
 
