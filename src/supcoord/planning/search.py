@@ -119,12 +119,12 @@ def image(S: GuardedSystem, x: BDD, limit: int | None = None) -> BDD:
         xp = primed.get(mv.var)
         if xp is None:  # X[x_v := x'_v], once per written variable (v and w share it)
             xp = primed[mv.var] = S.prime(x, mv.var)
-        parts.append(S.pre(x, e, primed=xp, within=False))
+        parts.append(S.pre(x, e, primed=xp))
         if limit is not None and len(parts[-1]) > limit:
             raise _ImageTooLarge()
     while len(parts) > 1:  # a balanced union: operands of like size, not one growing accumulator
         parts = [parts[i] | parts[i + 1] if i + 1 < len(parts) else parts[i] for i in range(0, len(parts), 2)]
-    return parts[0] & S.invariant if parts else ctx.false  # the invariant once, not once per event
+    return parts[0] if parts else ctx.false  # each pre-image is inside the invariant
 
 
 def _least_meeting(ctx: Any, frontier: BDD, other: list[BDD]) -> int | None:
