@@ -342,30 +342,18 @@ def test_blockers_of_a_relaxed_path_block_it():
     assert found == sorted(hit)
 
 
-@pytest.mark.parametrize("weighted", [False, True])
-def test_cutwidth_order_is_least_by_brute_force(weighted):
-    """Least max cut, then least sum, over every order; the weights are the pairs' coupling
-    bits, here computed again from the blocked tables' distinct rows."""
-    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, AB, 2.0, seed=0)
+def test_cutwidth_order_is_least_by_brute_force():
+    p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, ROT, 2.0, seed=0)
     adj = conflict_graph(p)
-
-    def weight(k):
-        if not weighted:
-            return 1.0
-        return max(math.log2(len({row.tobytes() for row in np.swapaxes(blocked_table(p, k, side), 0, 1)}))
-                   for side in (0, 1))
-
-    # the last two: the least sum of cuts has a larger max cut (weighted)
-    for members in ([0, 1, 2, 3, 4, 5, 6], [1, 2, 7, 8, 9, 10], [5, 6, 16, 17, 0], [0, 1, 4, 6, 9, 13, 17],
-                    [1, 2, 4, 6, 9, 10, 12]):
+    for members in ([0, 1, 2, 3, 4, 5, 6], [1, 2, 7, 8, 9, 10], [5, 6, 16, 17, 0]):
         def cost(order, members=members):
             cuts = []
             for i in range(1, len(order)):
                 left = set(order[:i])
-                cuts.append(sum(weight(k) for a in left for k, b, _ in adj[a] if b in members and b not in left))
-            return round(max(cuts), 6), round(sum(cuts), 6)
+                cuts.append(sum(1 for a in left for _, b, _ in adj[a] if b in members and b not in left))
+            return max(cuts), sum(cuts)
         best = min(cost(list(o)) for o in itertools.permutations(members))
-        assert cost(cutwidth_order(p, members, weighted=weighted)) == best
+        assert cost(cutwidth_order(p, members)) == best
 
 
 @pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot4", 2), ("ab3", 0), ("ab3", 1)])

@@ -6,7 +6,7 @@ the order (:mod:`supcoord.bdd.ordering`).  On the conflict graph
 
 - :func:`conflict_components`: its connected components (independent subproblems);
 - :func:`rcm_order`: reverse Cuthill–McKee (small bandwidth), the default;
-- :func:`cutwidth_order`: least (weighted) cutwidth, exact on small windows;
+- :func:`cutwidth_order`: least cutwidth, exact on small windows;
 - :func:`hex_order`: the layout order.
 
 References
@@ -17,7 +17,6 @@ References
 
 from __future__ import annotations
 
-import math
 from typing import Iterable
 
 import numpy as np
@@ -26,7 +25,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..bdd.ordering import cuthill_mckee
 from ..problems.problem import Problem
-from .guards import conflict_graph, coupling_bits
+from .guards import conflict_graph
 
 __all__ = ["conflict_components", "rcm_order", "cutwidth_order", "hex_order"]
 
@@ -63,58 +62,52 @@ def rcm_order(problem: Problem, members: Iterable[int] | None = None) -> list[in
     return [nodes[i] for part in cuthill_mckee(adj) for i in reversed(part)]
 
 
-def cutwidth_order(problem: Problem, members: Iterable[int], exact_up_to: int = 10,
-                   weighted: bool = True) -> list[int]:
-    """An order of ``members`` of least *weighted cutwidth* on the induced conflict graph:
-    minimise ``(max_i cut_i, Σ_i cut_i)`` with ``cut_i`` the summed weights of the conflict
-    pairs with one end among the first ``i`` members and the other after them.
+def cutwidth_order(problem: Problem, members: Iterable[int], exact_up_to: int = 10) -> list[int]:
+    """An order of ``members`` of least *cutwidth* on the induced conflict graph:
+    minimise ``(max_i cut_i, Σ_i cut_i)`` with ``cut_i`` the number of conflict pairs with
+    one end among the first ``i`` members and the other after them.
 
-    A BDD over pairwise-coupled variables has at most ``∏`` (subfunctions each pair leaves
-    across the cut) nodes per level, so the cut is the quantity to keep small (bandwidth,
-    what reverse Cuthill–McKee minimises, only bounds it).  The weight of a pair is
-    ``log2`` of that number (:func:`.guards.coupling_bits`); ``weighted=False`` counts pairs.
-    Exact up to ``exact_up_to`` members (dynamic programming over subsets: the least max
-    cut, then the least sum among the orders within it), :func:`rcm_order` beyond.
-
-    Measured on a 6-robot alpha-beta window (a strip of triangles): 2 s for 13 forward
-    layers in the least-cutwidth order, 7 to 28 s in other orders of the same members.
-    On a 5-robot window of SDSS-V robots at 36 × 19 positions whose members all
-    conflict, 14 forward layers took 0.33–1.00 s over its 120 orders; the least weighted
-    cutwidth ranked 10th (0.38 s), the unweighted one 59th; on the whole 127-robot run the
-    difference was within noise (``benchmarks/bench_window_order.py``)."""
-    nodes = sorted(set(int(p) for p in members))
+    A BDD over pairwise-coupled variables needs at most ``∏`` (domain sizes across the
+    cut) nodes per level, so the cut is the quantity to keep small (bandwidth, what
+    reverse Cuthill–McKee minimises, only bounds it).  Exact dynamic programming over
+    subsets up to ``exact_up_to`` members, :func:`rcm_order` beyond.  Measured on a
+    6-robot alpha-beta window (a strip of triangles): 2 s for 13 forward layers in the
+    least-cutwidth order, 7 to 28 s in other orders of the same members."""
+    nodes, adj = _induced(problem, members)
     n = len(nodes)
     if n > exact_up_to:
         return rcm_order(problem, nodes)
-    index = {p: i for i, p in enumerate(nodes)}
-    weight = np.zeros((n, n))
-    for p in nodes:
-        for k, q, _ in conflict_graph(problem)[p]:
-            if q in index:
-                weight[index[p], index[q]] = coupling_bits(problem, k) if weighted else 1.0
+    nb = [0] * n
+    for i, a in enumerate(adj):
+        for j in a:
+            nb[i] |= 1 << j
     full = (1 << n) - 1
-    inside = (np.arange(full + 1)[:, None] >> np.arange(n)) & 1  # [set, member]
-    cut = np.round(((inside @ weight) * (1 - inside)).sum(axis=1), 9).tolist()  # weight leaving each set
-    # least max cut per set of first members (the bottleneck is monotone: exact by DP) ...
-    width = [0.0] * (full + 1)
-    for m in range(1, full + 1):
-        width[m] = max(cut[m], min(width[m & ~(1 << i)] for i in range(n) if m >> i & 1))
-    bound = width[full]
-    # ... then the least sum of cuts among the orders whose every cut is within it
-    total: list[float] = [math.inf] * (full + 1)
-    last = [-1] * (full + 1)
-    total[0] = 0.0
-    for m in range(1, full + 1):
-        if cut[m] > bound:
-            continue
-        for i in range(n):
-            if m >> i & 1 and total[m & ~(1 << i)] + cut[m] < total[m]:
-                total[m], last[m] = total[m & ~(1 << i)] + cut[m], i
+
+    def cut(m: int) -> int:
+        return sum(bin(nb[i] & ~m & full).count("1") for i in range(n) if m >> i & 1)
+
+    best: dict[int, tuple[tuple[int, int], int, int]] = {0: ((0, 0), -1, -1)}
+    frontier = [0]
+    for _ in range(n):
+        nxt: dict[int, tuple[tuple[int, int], int, int]] = {}
+        for m in frontier:
+            cost = best[m][0]
+            for i in range(n):
+                if m >> i & 1:
+                    continue
+                m2 = m | (1 << i)
+                c = cut(m2)
+                cost2 = (max(cost[0], c), cost[1] + c)
+                if m2 not in nxt or cost2 < nxt[m2][0]:
+                    nxt[m2] = (cost2, m, i)
+        best.update(nxt)
+        frontier = sorted(nxt)
     order = []
     m = full
     while m:
-        order.append(nodes[last[m]])
-        m &= ~(1 << last[m])
+        _, prev, i = best[m]
+        order.append(nodes[i])
+        m = prev
     return order[::-1]
 
 

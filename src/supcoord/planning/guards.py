@@ -42,7 +42,7 @@ from ..geometry.kinematics import Kinematics
 from ..geometry.table_store import PackedTables, release_free_heap
 from ..problems.problem import Problem
 
-__all__ = ["blocked_table", "blocked_bits", "blocked_column", "is_blocked", "conflict_graph", "pair_graph", "coupling_bits",
+__all__ = ["blocked_table", "blocked_bits", "blocked_column", "is_blocked", "conflict_graph", "pair_graph",
            "successor_table", "table_bdd", "var_names"]
 
 #: ``adj[p] = [(k, q, side), …]``: pair ``k = (p, q)`` with ``p`` on side ``side``
@@ -115,25 +115,6 @@ def blocked_column(problem: Problem, k: int, side: int, m: int, j: int) -> np.nd
     standing at ``j``), read from the bits."""
     store, key = _stored(problem, k, side)
     return store.column(key, m, j)
-
-
-def coupling_bits(problem: Problem, k: int) -> float:
-    """``log2`` of the number of distinct rows of pair ``k``'s blocked tables (the larger
-    side): the subfunctions its guards leave across a variable-order cut between the two
-    members, so a BDD's width at a cut is at most ``2^Σ`` over the pairs the cut
-    separates (the weights of :func:`.graph_order.cutwidth_order`).  A pair at the reach
-    of both arms has a few dozen distinct rows, an adjacent one hundreds (SDSS-V at
-    36 × 19 positions: 53 and 516).  Cached per pair geometry."""
-    cache = problem.__dict__.setdefault("_coupling_bits", {})
-    key = problem.pair_geometry_key(k)
-    bits = cache.get(key)
-    if bits is None:
-        distinct = 1
-        for side in (0, 1):
-            rows = np.ascontiguousarray(np.swapaxes(blocked_bits(problem, k, side), 0, 1))
-            distinct = max(distinct, len(np.unique(rows.reshape(rows.shape[0], -1), axis=0)))
-        bits = cache[key] = float(np.log2(distinct))
-    return bits
 
 
 def _move_blocked_any(problem: Problem, k: int) -> bool:
