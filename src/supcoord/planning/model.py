@@ -354,7 +354,7 @@ class GuardedSystem:
         the states of ``Inv`` only.  Inside a :meth:`restricted` region (few members
         displaced) this made the images of SDSS-V's costliest 5-robot window at 36 × 19
         positions 1.3–1.6× faster (two runs) than conjoining ``Inv`` once after the union of the
-        pre-images, and the 127-robot run take 22.5–24.1 s against 27.4–30.3 s
+        pre-images; the 127-robot run took 22.5–24.1 s against 27.4–30.3 s
         (``benchmarks/bench_window_order.py``, ``bench_resolution.py``)."""
         ctx = self.model.ctx
         mv = self.moves[event]
