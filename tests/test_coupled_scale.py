@@ -111,7 +111,7 @@ def test_every_order_gives_the_same_results_on_five_positioners():
 
 
 def test_run_paper_coupled_uses_the_bandwidth_order_and_the_same_answers():
-    r = run_paper(4, 6, model="coupled", seed=0)
+    r = run_paper(4, 6, model="coupled", seed=0, route="monolithic")
     assert next(v for v in r.G.ctx.vars if v.startswith("pos")) == f"pos{positioner_order(_model(4, 6))[0] + 1}"
     assert r.payload["supervisor_states"] == _results(_model(4, 6), "layout")[0]
 
@@ -123,7 +123,7 @@ def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeyp
     AUTO_COUNT_COUPLED positioners (or on request) and equal the trim supervisor's."""
     import supcoord.paper.run as run
 
-    counted = run_paper(size, 6, model="coupled", seed=seed)
+    counted = run_paper(size, 6, model="coupled", seed=seed, route="monolithic")
     trim = _results(_model(size, 6, seed), "auto")
     assert counted.payload["counted"] is True and counted.supcon.stats["accessible"] is True
     assert (counted.payload["supervisor_states"], counted.payload["supervisor_transitions"],
@@ -131,7 +131,7 @@ def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeyp
     assert (counted.payload["ccc"], counted.payload["rank"], tuple(counted.payload["witness"])) == trim[3:]
     assert counted.supervisor.count_states() == trim[0]
     monkeypatch.setattr(run, "AUTO_COUNT_COUPLED", size - 1)
-    quick = run_paper(size, 6, model="coupled", seed=seed)
+    quick = run_paper(size, 6, model="coupled", seed=seed, route="monolithic")
     assert quick.payload["counted"] is False and quick.payload["supervisor_states"] is None
     assert quick.payload["supervisor_states_log10"] is None and quick.payload["timings"]["count"] == 0
     assert (quick.payload["ccc"], quick.payload["rank"], quick.payload["witness"]) == (

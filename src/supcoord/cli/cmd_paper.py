@@ -1,13 +1,16 @@
-"""``supcoord paper --positioners N --steps n [--model literal|coupled] [--route modular|monolithic] [--json]``.
+"""``supcoord paper --positioners N --steps n [--model literal|coupled] [--route modular|monolithic|settled] [--json]``.
 
 Scaling runs of the seed paper's model: ``N`` positioners on the hex grid with seeded
 random starts and targets (start ≠ target), priorities = indices; builds ``G`` and
 ``allevents(G) || S``, synthesizes ``V`` symbolically and runs CCC (preemptive).
 The literal model defaults to the exact ``modular`` route (one small supcon per
 distinct positioner, Theorems 1–2 of :mod:`supcoord.paper.modular`); the
-coupled model has only the ``monolithic`` route; there ``V`` is synthesized without its
-reachable set and its exact sizes are counted up to 6 positioners (``--count-states``
-beyond; ``"counted"`` says whether they were).  The library function is
+coupled model under preemptive semantics to ``settled`` (CCC on its settled states,
+:mod:`supcoord.paper.settled`: the same verdict, rank and witness, without building
+``V``; ``"settled"`` reports the search), else to ``monolithic``, where ``V`` is
+synthesized without its reachable set and its exact sizes are counted up to 6
+positioners (``--count-states`` beyond, which also selects ``monolithic``; ``"counted"``
+says whether they were).  The library function is
 :func:`supcoord.paper.run.solve_paper` (re-exported here).
 JSON: ``{"status", "positioners", "steps", "model", "route", "supervisor_states" (null beyond
 4000 digits: Python refuses longer integers), "supervisor_states_log10",
@@ -26,7 +29,8 @@ __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
 EXAMPLE = """examples:
   supcoord paper --positioners 5000 --steps 12 --json          literal model, modular route
   supcoord paper --positioners 30 --steps 12 --route monolithic
-  supcoord paper --positioners 7 --steps 8 --model coupled --seed 3"""
+  supcoord paper --positioners 7 --steps 8 --model coupled --seed 3
+  supcoord paper --positioners 5 --steps 8 --model coupled --route monolithic --count-states"""
 
 
 def __getattr__(name: str):  # solve_paper lives in the positioners layer; kept importable from here
@@ -48,9 +52,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--positioners", type=int, required=True, metavar="N", help="number of positioners (>= 1)")
     p.add_argument("--steps", type=int, required=True, metavar="n", help="positions per positioner (>= 2)")
     p.add_argument("--model", choices=["literal", "coupled"], default="literal", help="reading of the model (default literal)")
-    p.add_argument("--route", choices=["modular", "monolithic"], default=None,
+    p.add_argument("--route", choices=["modular", "monolithic", "settled"], default=None,
                    help="modular: exact decomposition, literal model only (its default); "
-                        "monolithic: generic supcon and CCC on the whole product (the coupled model's only route)")
+                        "settled: CCC on the coupled model's settled states without building V "
+                        "(its default under preemptive semantics; same verdict, rank and witness); "
+                        "monolithic: generic supcon and CCC on the whole product")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the random starts/targets (default 0)")
     p.add_argument("--semantics", choices=["preemptive", "standard"], default="preemptive", help="forcibility semantics")
     p.add_argument("--count-transitions", action="store_true",
@@ -81,11 +87,15 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         verdict += f", witness of {payload['witness_length']} events"
     if payload.get("certificate"):
         verdict += f" ({payload['certificate']})"
-    states = (f"V has {_magnitude(payload['supervisor_states'], payload['supervisor_states_log10'])} states"
-              if payload["counted"] else "V's states not counted (--count-states)")
+    if payload["route"] == "settled":
+        states = f"V not built (CCC on the settled states, {payload['settled']['relations']} relations)"
+    elif payload["counted"]:
+        states = (f"V has {_magnitude(payload['supervisor_states'], payload['supervisor_states_log10'])} states, "
+                  f"{payload['bdd_nodes']} BDD nodes")
+    else:
+        states = f"V's states not counted (--count-states), {payload['bdd_nodes']} BDD nodes"
     text = (f"{payload['model']} model, {payload['route']} route, {payload['positioners']} positioners, "
-            f"{payload['steps']} steps (seed {payload['seed']}): {states}, "
-            f"{payload['bdd_nodes']} BDD nodes; CCC {verdict}; {payload['seconds']} s "
+            f"{payload['steps']} steps (seed {payload['seed']}): {states}; CCC {verdict}; {payload['seconds']} s "
             f"(build {t['build']}, supcon {t['supcon']}, ccc {t['ccc']}"
             + (f", count {t['count']})" if t.get("count") else ")"))
     return CommandResult(payload, text)

@@ -2,22 +2,27 @@
 
 :func:`run_paper` builds ``G = ||_i G^{P_i}`` and ``E = allevents(G) || S`` for an
 instance (seeded random starts and targets on the hex grid, or one you give),
-synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of two routes:
+synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes:
 
 - ``modular`` (literal model only, the default there): exact by Theorems 1 and 2 of
   :mod:`.modular` — each distinct positioner is solved once in a small context,
   ``V`` is the product restricted to ``∏ Z_i``, and a negative CCC verdict comes with a
   certificate naming the positioner whose own supervisor cannot force its target;
+- ``settled`` (coupled model, preemptive semantics: its default): CCC on the settled
+  states (:mod:`.settled`), without building ``V``; the same verdict, rank and witness
+  as the monolithic route, exact by the theorem of that module;
 - ``monolithic``: the generic :func:`~supcoord.synthesis.supcon` and
-  :func:`~supcoord.synthesis.ccc` on the whole product (the only route for the coupled
-  model, whose guards read the neighbours' positions, so no component is independent).
+  :func:`~supcoord.synthesis.ccc` on the whole product (for the coupled model, whose
+  guards read the neighbours' positions, no component is independent).
   For the coupled model the supervisor is computed without the reachable set
   (``supcon(..., accessible=False)``: same languages, same CCC verdict, rank and witness)
   and CCC runs on it; the exact sizes of the trim supervisor need ``Reach``, the hard
   set of this model, so they are counted (:func:`~supcoord.synthesis.accessible_part`)
   only up to :data:`AUTO_COUNT_COUPLED` positioners unless asked for.
 
-Both return the same supervisor (same state-set BDD; ``tests/test_paper.py``).
+The modular and monolithic routes return the same supervisor (same state-set BDD;
+``tests/test_paper.py``); the settled and monolithic routes the same CCC answer
+(``tests/test_settled.py``).
 :func:`solve_paper` returns the JSON object of ``supcoord paper --json`` (docs/formats.md),
 :func:`run_paper` a :class:`PaperRun` that also keeps the generators and results for a
 notebook.
@@ -51,12 +56,13 @@ from ..synthesis import CCCResult, SupconResult, accessible_part, ccc, supcon
 from .coupled import CoupledModel, Geometry, coupled_models
 from .literal import PaperInstance, hex_neighbours, hex_sites, literal_models, random_instance
 from .modular import literal_modular
+from .settled import settled_ccc, target_in_zone
 
 __all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "run_paper", "solve_paper",
            "coupled_instance", "default_route", "json_count", "log10_count"]
 
 MODELS = ("literal", "coupled")
-ROUTES = ("modular", "monolithic")
+ROUTES = ("modular", "monolithic", "settled")
 #: the monolithic route counts transitions exactly only up to this many events (the exact
 #: count walks one BDD per event: 20 of 25 s at 100 positioners); the modular route's
 #: count is a closed formula and always exact
@@ -77,15 +83,15 @@ class PaperRun:
     instance: PaperInstance
     model: str
     route: str
-    G: SymbolicGenerator
-    E: SymbolicGenerator
-    supcon: SupconResult
+    G: SymbolicGenerator | None  # None on the settled route, which builds neither G nor V
+    E: SymbolicGenerator | None
+    supcon: SupconResult | None
     ccc: CCCResult
     payload: dict[str, Any] = field(default_factory=dict)
 
     @property
-    def supervisor(self) -> SymbolicGenerator:
-        return self.supcon.supervisor
+    def supervisor(self) -> SymbolicGenerator | None:
+        return None if self.supcon is None else self.supcon.supervisor
 
 
 def log10_count(count: int | None) -> float | None:
@@ -103,9 +109,14 @@ def json_count(count: int | None) -> int | None:
     return None
 
 
-def default_route(model: str) -> str:
-    """``modular`` for the literal model (exact, Theorems 1–2), ``monolithic`` otherwise."""
-    return "modular" if model == "literal" else "monolithic"
+def default_route(model: str, semantics: str = "preemptive", count_states: bool | None = None) -> str:
+    """``modular`` for the literal model (exact, Theorems 1–2); for the coupled model
+    ``settled`` under preemptive semantics (exact, :mod:`.settled`) unless the supervisor's
+    states are to be counted, else ``monolithic``.  :func:`run_paper` also takes the
+    monolithic route for an instance whose target has an arm in another's safety zone."""
+    if model == "literal":
+        return "modular"
+    return "settled" if semantics == "preemptive" and not count_states else "monolithic"
 
 
 #: largest model ``run_paper`` builds: positioners (20,000 measured: 97 s and 4 GB for the
@@ -196,9 +207,21 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     """
     if model not in MODELS:
         raise InputError(f"must be literal or coupled, got {model!r}", value=model, where="--model")
-    route = default_route(model) if route is None else route
+    chosen = route is None
+    route = default_route(model, semantics, count_states) if route is None else route
     if route not in ROUTES:
-        raise InputError(f"must be modular or monolithic, got {route!r}", value=route, where="--route")
+        raise InputError(f"must be modular, monolithic or settled, got {route!r}", value=route, where="--route")
+    if route == "settled":
+        if model != "coupled":
+            raise InputError("settled is a route of the coupled model (its collision events settle the levels); "
+                             "the literal model's routes are modular and monolithic", value=route, where="--route")
+        if semantics != "preemptive":
+            raise InputError("settled is exact under preemptive semantics only (under standard semantics a "
+                             "controllable event may be forced while a collision event is pending); use --route "
+                             "monolithic", value=semantics, where="--semantics")
+        if count_states:
+            raise InputError("--count-states counts V, which the settled route does not build; use --route "
+                             "monolithic", value=route, where="--route")
     if route == "modular" and model != "literal":
         raise InputError("modular is exact for the literal model only (the coupled model's collision "
                          "guards read the neighbours' positions, so its positioners are not independent); "
@@ -216,15 +239,23 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         inst = instance or random_instance(positioners, steps, seed)
     else:
         inst = instance or coupled_instance(positioners, steps, seed, geometry)
+    cm = CoupledModel(inst, geometry) if model == "coupled" else None
+    if chosen and route == "settled" and target_in_zone(cm) is not None:
+        route = "monolithic"  # a collision pending at the target: V may lose it (paper.settled)
+    res: SupconResult | None = None
+    G = E = None
     if route == "modular":
         G, E, res, c = literal_modular(inst, ctx, semantics)
         t1 = t0 + res.stats["build_seconds"]
         t2 = time.perf_counter() - c.stats.get("seconds", 0.0)
+    elif route == "settled":
+        c = settled_ccc(cm, ctx)
+        t1 = t0 + c.stats["build_seconds"]
+        t2 = t1
     else:
         if model == "literal":
             G, E = literal_models(inst, ctx)
         else:
-            cm = CoupledModel(inst, geometry)
             cm.check()
             G, E = coupled_models(cm, ctx)
         t1 = time.perf_counter()
@@ -238,6 +269,8 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
             res = accessible_part(res, count_transitions=count)
             counting = time.perf_counter() - t_count
     t3 = time.perf_counter()
+    sizes = res.stats if res is not None else {"states": None, "transitions": None, "marked": None,
+                                                "accessible": False, "bdd_nodes": None}
     payload = {
         "status": "ok",
         "positioners": inst.size,
@@ -246,12 +279,12 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         "route": route,
         "seed": seed if instance is None else None,
         "semantics": semantics,
-        "supervisor_states": json_count(res.stats["states"]),
-        "supervisor_states_log10": log10_count(res.stats["states"]),
-        "supervisor_transitions": json_count(res.stats["transitions"]),
-        "supervisor_marked": json_count(res.stats["marked"]),
-        "counted": res.stats.get("accessible", True),
-        "bdd_nodes": res.stats["bdd_nodes"],
+        "supervisor_states": json_count(sizes["states"]),
+        "supervisor_states_log10": log10_count(sizes["states"]),
+        "supervisor_transitions": json_count(sizes["transitions"]),
+        "supervisor_marked": json_count(sizes["marked"]),
+        "counted": sizes.get("accessible", True),
+        "bdd_nodes": sizes["bdd_nodes"],
         "ccc": c.forcible,
         "rank": c.rank,
         "witness_length": len(c.witness),
@@ -259,10 +292,12 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         "certificate": c.stats.get("certificate"),
         "seconds": round(t3 - t0, 4),
         "timings": {"build": round(t1 - t0, 4), "supcon": round(t2 - t1, 4), "ccc": round(t3 - t2 - counting, 4),
-                    "count": round(counting, 4), "supcon_iterations": res.stats.get("iterations")},
+                    "count": round(counting, 4), "supcon_iterations": sizes.get("iterations")},
     }
     if route == "modular":
         payload["distinct_components"] = res.stats["distinct_components"]
+    if route == "settled":
+        payload["settled"] = {k: c.stats[k] for k in ("distance", "buckets", "relations", "max_layer_nodes")}
     return PaperRun(inst, model, route, G, E, res, c, payload)
 
 

@@ -1,0 +1,254 @@
+"""CCC of the coupled model on its settled states: the same verdict, rank and witness, without ``V``.
+
+In the coupled reading (:mod:`.coupled`) the uncontrollable events ``k_i`` and ``e_i``
+change only the level ``lvl_i`` and are due exactly when the positions say so: with
+``c_i`` the number of neighbours in ``P_i``'s zone, ``k_i`` while ``lvl_i < min(c_i, 2)``
+and ``e_i`` while ``lvl_i ≥ 1 ∧ c_i = 0``.  Positions do not change while they fire, so
+from any state ``x`` each positioner's levels follow one short deterministic chain and
+the chains of different positioners commute: every maximal run of uncontrollable
+events from ``x`` has the same length ``D(x) = Σ_i d_i(x)`` and ends in the same
+**settled** state ``settle(x)`` (no uncontrollable event defined), where::
+
+    d_i = [lvl_i ≥ 1]                 if c_i = 0     (one e_i)
+    d_i = max(min(c_i, 2) − lvl_i, 0)  if c_i ≥ 1     (k_i up to min(c_i, 2))
+
+**Theorem.**  Under preemptive semantics, with target ``T`` (every positioner on its
+target, every level 0) where no arm is in another's safety zone, for every state ``x ≠ T``:
+
+- if some uncontrollable event is defined at ``x``: ``rank(x) = D(x) + rank(settle(x))``;
+- otherwise: ``rank(x) = min_c (1 + rank(δ(x, c)))`` over the controllable events.
+
+*Proof.*  The second line is preemptive ``Force`` where ``U(x) = ∅``.  For the first,
+induction on ``D(x)``: ``rank(x) = 1 + max_u rank(δ(x, u))``, every ``δ(x, u)`` has
+``D − 1`` and the same settled state, and the branch that fires a pending ``k`` first
+never passes through ``T`` (levels only return to 0 by ``e``), so the maximum is
+``D(x) − 1 + rank(settle(x))`` (``∞`` if that is).  ∎
+
+So ``rank(q0)`` is a **shortest path** in the graph of settled states, an edge per
+controllable event ``c`` of weight ``1 + D(δ(y, c))``.  And CCC of
+``V = supcon(G, allevents(G) ‖ S)`` equals forcibility in ``G``: ``S`` counts every move
+and disables nothing, so ``B0 = ∅``; the winning set ``W(∞)`` reaches the target and is
+closed under uncontrollable events (at ``T`` because none is defined there), so it lies
+inside supcon's greatest fixpoint, where ``V`` keeps every transition between winning
+states, and ``V``'s layers are ``G``'s.  The condition on the target is needed: where a
+collision event is pending at ``T``, supcon also removes ``T`` when that event leads
+to a blocking state, and ``V`` may be empty where ``G`` wins (found by
+``tests/test_settled.py``'s random instances); such instances take the monolithic
+route.
+
+The settled states are encoded symbolically by :mod:`.settled_graph` (positions and one
+"stale level" bit per positioner, one relation per event and weight).  :func:`settled_ccc`
+runs A* on sets: buckets ``(g, h)`` expanded in order of ``f = g + h``, with ``h`` the sum
+of the ring distances to the targets (consistent: an event moves one arm one step and
+costs at least 1), so every state is expanded at its distance and the first ``f`` that
+reaches ``T`` is ``dist(T)``; the sweep of that ``f`` is finished, so every state of
+every shortest path is expanded.  "Not forcible" is proved when nothing is left to
+expand.  The witness is then read forward as :func:`~supcoord.synthesis.witness` reads
+it on ``V`` (the controller forces the event of least successor rank, ties by name; the
+environment fires its smallest event), testing successors against the states on
+shortest paths: it is the same string.
+
+References
+----------
+- M. Macktoobian, D. Gillet, J.-P. Kneib, IFAC LSS 2019, doi:10.1016/j.ifacol.2019.06.011
+  (CCC, the shortest forcible path, the Remark on preemption).
+- P. E. Hart, N. J. Nilsson, B. Raphael, A formal basis for the heuristic determination
+  of minimum cost paths, IEEE Trans. SSC 4(2), 1968 (admissible, consistent bounds).
+- S. Edelkamp, F. Reffel, OBDDs in heuristic search, KI 1998 (symbolic best-first
+  search with a BDD-partitioned heuristic).
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import time
+from dataclasses import dataclass
+
+from ..bdd.context import BDD, Context, ThrottledCheck
+from ..des.generator import event_key
+from ..errors import ModelError
+from ..synthesis.ccc import CCCResult
+from .coupled import CoupledModel
+from .events import positioner_events
+from .settled_graph import SettledGraph, State, settle, target_in_zone
+
+__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
+
+
+@dataclass
+class _Search:
+    layers: list[BDD]  # F(g): the expanded settled states at distance exactly g from settle(q0)
+    found: int | None  # distance of T from settle(q0), None if T is unreachable
+    buckets: int  # (g, h) buckets expanded
+
+
+def _astar(graph: SettledGraph, check: ThrottledCheck) -> _Search:
+    """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
+    ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
+    states of all shortest paths, for the witness), or nothing is left to expand.
+
+    ``h`` is consistent (an event moves one arm one step and costs at least 1), so a
+    state is first expanded at its distance; ``open_[g]`` holds the states generated at
+    tentative distance ``g``, pruned lazily against the expanded ones."""
+    ctx = graph.ctx
+    false = ctx.false
+    exact = graph.distance_exact()
+    at_most = list(itertools.accumulate(exact, lambda a, b: a | b))
+    open_: dict[int, BDD] = {0: graph.start}
+    closed, layers = false, [false]
+    best: int | None = 0 if graph.start & graph.target != false else None
+    f, buckets = graph.heuristic(graph.start_raw[0]), 0
+    while True:
+        if best is not None and f > best:
+            break
+        for g in list(open_):
+            open_[g] &= ~closed
+            if open_[g] == false:
+                del open_[g]
+        if not open_:  # every state reachable from settle(q0) is expanded
+            break
+        for g in range(f + 1):  # successors of (g, f) land at a larger g: one sweep per f
+            x = open_.get(g, false)
+            if x == false or f - g >= len(exact):
+                continue
+            x &= exact[f - g]
+            if x == false:
+                continue
+            check("settled", f=f, g=g, best=best)
+            buckets += 1
+            closed |= x
+            open_[g] &= ~x
+            while len(layers) <= g:
+                layers.append(false)
+            layers[g] |= x
+            reached: dict[int, BDD] = {}
+            for move in graph.moves:
+                reached[move.weight] = reached.get(move.weight, false) | graph.post(move, x)
+            fresh = ~closed
+            for w, y in reached.items():
+                y &= fresh
+                if y != false:
+                    open_[g + w] = open_.get(g + w, false) | y
+                    if y & graph.target != false:
+                        best = g + w if best is None else min(best, g + w)
+        for g, x in open_.items():  # consistency: nothing generated below the f just swept
+            if g <= f and x & at_most[min(f - g, len(at_most) - 1)] & ~closed != false:
+                raise ModelError(f"a state of f <= {f} was left unexpanded: the bound is not consistent", value=f)
+        f += 1
+    return _Search(layers, best, buckets)
+
+
+def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
+    """``O[r]``: the states of ``F(K − r)`` at distance exactly ``r`` from ``T`` (on a
+    shortest path), ``K`` the distance found."""
+    ctx, K = graph.ctx, search.found
+    false = ctx.false
+    O = [graph.target]
+    for r in range(1, K + 1):
+        u = false
+        for move in graph.moves:
+            if move.weight <= r and O[r - move.weight] != false:
+                u |= graph.pre(move, O[r - move.weight])
+        O.append(u & search.layers[K - r])
+    return O
+
+
+def _pending(model: CoupledModel, state: State) -> list[tuple[str, State]]:
+    """The uncontrollable events defined at ``state`` with their successors, by name."""
+    pos, lvl = state
+    out = []
+    for i in range(len(pos)):
+        ev = positioner_events(i + 1)
+        for kind, (p, level) in model.successors(i, pos, lvl).items():
+            if not ev[kind].controllable:
+                out.append((ev[kind].name, (pos, lvl[:i] + (level,) + lvl[i + 1:])))
+    return sorted(out, key=lambda s: event_key(s[0]))
+
+
+def _controllable(model: CoupledModel, state: State) -> list[tuple[str, State]]:
+    pos, lvl = state
+    out = []
+    for i in range(len(pos)):
+        ev = positioner_events(i + 1)
+        for kind, (p, level) in model.successors(i, pos, lvl).items():
+            if ev[kind].controllable:
+                out.append((ev[kind].name, (pos[:i] + (p,) + pos[i + 1:], lvl[:i] + (level,) + lvl[i + 1:])))
+    return sorted(out, key=lambda s: event_key(s[0]))
+
+
+def _witness(graph: SettledGraph, O: list[BDD]) -> list[str]:
+    """The witness :func:`~supcoord.synthesis.witness` reads from ``V``'s layers."""
+    model, false = graph.model, graph.ctx.false
+    x, left, path = graph.start_raw, len(O) - 1 + graph.start_cost, []
+    while x != graph.target_raw:
+        pending = _pending(model, x)
+        if pending:  # the environment fires its smallest event (every one has rank − 1)
+            name, x = pending[0]
+            path.append(name)
+            left -= 1
+            continue
+        for name, z in _controllable(model, x):  # least successor rank (left − 1), then name
+            levels, cost = settle(model, *z)
+            r = left - 1 - cost
+            if r >= 0 and graph.code((z[0], levels)) & O[r] != false:
+                break
+        else:
+            raise ModelError("no controllable event continues a shortest path: corrupted layers", value=left)
+        path.append(name)
+        x, left = z, left - 1
+    return path
+
+
+def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto") -> CCCResult:
+    """CCC of the coupled model under preemptive semantics on its settled states (module
+    docstring): the verdict, ``rank(q0)`` and the witness that :func:`~supcoord.synthesis.ccc`
+    returns on ``V``.  ``stats``: seconds (``build``, ``search``, ``witness``), the bounds
+    tried, the distance found, the largest layer (BDD nodes), the number of relations.
+    A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
+    t0 = time.perf_counter()
+    graph = SettledGraph(model, ctx, order)
+    ctx = graph.ctx
+    check = ThrottledCheck(ctx)
+    t1 = time.perf_counter()
+    stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4)}
+    if graph.start_raw == graph.target_raw:
+        stats.update(search_seconds=0.0, witness_seconds=0.0, seconds=round(time.perf_counter() - t0, 4))
+        return CCCResult(True, [], 0, [], stats)
+    search = _astar(graph, check)
+    t2 = time.perf_counter()
+    stats["buckets"] = search.buckets
+    stats.update(search_seconds=round(t2 - t1, 4), distance=search.found,
+                 max_layer_nodes=max((ctx.node_count(f) for f in search.layers), default=0))
+    if search.found is None:
+        stats.update(witness_seconds=0.0, seconds=round(time.perf_counter() - t0, 4))
+        return CCCResult(False, [], None, [], stats)
+    path = _witness(graph, _corridor(graph, search))
+    stats.update(witness_seconds=round(time.perf_counter() - t2, 4), seconds=round(time.perf_counter() - t0, 4))
+    return CCCResult(True, path, graph.start_cost + search.found, [], stats)
+
+
+def settled_ccc_naive(model: CoupledModel) -> tuple[bool, int | None]:
+    """The explicit twin: Dijkstra on the settled states, ``(forcible, rank(q0))``."""
+    size = model.inst.size
+    target: State = (tuple(model.inst.target), (0,) * size)
+    q0: State = (tuple(model.inst.start), (0,) * size)
+    if q0 == target:
+        return True, 0
+    levels, cost = settle(model, *q0)
+    start = (q0[0], levels)
+    best = {start: cost}
+    queue = [(cost, start)]
+    while queue:
+        g, y = heapq.heappop(queue)
+        if best[y] != g:
+            continue
+        if y == target:
+            return True, g
+        for _, z in _controllable(model, y):
+            lv, d = settle(model, *z)
+            nxt, w = (z[0], lv), 1 + d
+            if g + w < best.get(nxt, g + w + 1):
+                best[nxt] = g + w
+                heapq.heappush(queue, (g + w, nxt))
+    return False, None

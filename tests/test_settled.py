@@ -1,0 +1,148 @@
+"""CCC of the coupled model on its settled states (supcoord.paper.settled) against the
+generic route: supcon of the whole product and forcibility layers on V (their own code),
+and the explicit Dijkstra twin.
+
+The random instances vary the pitch (so starts lie inside safety zones and collisions
+are frequent), steps, priorities and sizes, so that every branch is reached: forcible
+and not, settled and unsettled starts, start = target, stale levels (two neighbours in
+the zone, one leaves).  No timings here: benchmarks/bench_coupled.py measures them."""
+
+from __future__ import annotations
+
+import random
+from collections import Counter
+
+import pytest
+
+from supcoord.bdd import Context
+from supcoord.cli.main import main
+from supcoord.errors import InputError
+from supcoord.paper.coupled import CoupledModel, Geometry, coupled_models
+from supcoord.paper.literal import PaperInstance, hex_neighbours, hex_sites, paper_example
+from supcoord.paper.run import coupled_instance, run_paper
+from supcoord.paper.settled import SettledGraph, settle, settled_ccc, settled_ccc_naive, target_in_zone
+from supcoord.synthesis import ccc, supcon
+
+
+def _generic(model: CoupledModel) -> tuple:
+    G, E = coupled_models(model, Context())
+    c = ccc(supcon(G, E, accessible=False).supervisor, "preemptive", full=False)
+    return c.forcible, c.rank, c.witness
+
+
+def _random_models(seed: int, count: int):
+    """Seeded random coupled instances whose target has no arm in another's zone."""
+    rng = random.Random(seed)
+    while count:
+        size = rng.choice([2, 2, 3, 3, 4])
+        steps = rng.choice([4, 5, 6, 8])
+        pitch = rng.choice([16.0, 18.0, 20.0, 22.4])
+        start = tuple(rng.randrange(steps) for _ in range(size))
+        target = tuple(rng.randrange(steps) for _ in range(size))
+        priority = list(range(1, size + 1))
+        rng.shuffle(priority)
+        inst = PaperInstance(steps, start, target, tuple(priority), hex_neighbours(hex_sites(size)))
+        model = CoupledModel(inst, Geometry(pitch=pitch))
+        if model.start_collisions or model.target_collisions or target_in_zone(model):
+            continue
+        count -= 1
+        yield model
+
+
+def _visits_a_stale_level(model: CoupledModel) -> bool:
+    """Some settled state reachable from the start has a level 2 with one neighbour in the zone."""
+    size = model.inst.size
+    start = (tuple(model.inst.start), settle(model, tuple(model.inst.start), (0,) * size)[0])
+    seen, stack = {start}, [start]
+    while stack:
+        pos, lvl = stack.pop()
+        if any(l == 2 and model.count(i, pos) == 1 for i, l in enumerate(lvl)):
+            return True
+        for i in range(size):
+            for kind, (p, level) in model.successors(i, pos, lvl).items():
+                nxt = pos[:i] + (p,) + pos[i + 1:]
+                state = (nxt, settle(model, nxt, lvl[:i] + (level,) + lvl[i + 1:])[0])
+                if state not in seen:
+                    seen.add(state)
+                    stack.append(state)
+    return False
+
+
+@pytest.mark.timeout(240)
+def test_settled_ccc_equals_the_generic_route_and_the_explicit_twin_on_random_instances():
+    kinds = Counter()
+    for model in _random_models(seed=11, count=160):
+        generic = _generic(model)
+        fast = settled_ccc(model)
+        assert (fast.forcible, fast.rank, fast.witness) == generic, model.inst
+        assert settled_ccc_naive(model) == generic[:2], model.inst
+        size = model.inst.size
+        kinds["forcible" if generic[0] else "not forcible"] += 1
+        kinds["unsettled start"] += settle(model, tuple(model.inst.start), (0,) * size)[1] > 0
+        kinds["start = target"] += model.inst.start == model.inst.target
+        kinds["environment in the witness"] += any(int(e) % 2 == 0 for e in generic[2])
+        kinds["stale level"] += _visits_a_stale_level(model)
+    # every route of the reduction is reached, not only the easy one
+    for kind in ("forcible", "not forcible", "unsettled start", "start = target", "environment in the witness",
+                 "stale level"):
+        assert kinds[kind] >= 3, kinds
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("size, steps, seed", [(3, 8, 0), (4, 6, 1), (5, 6, 0), (6, 8, 0)])
+def test_settled_ccc_equals_the_generic_route_on_the_benchmark_instances(size, steps, seed):
+    model = CoupledModel(coupled_instance(size, steps, seed))
+    fast = settled_ccc(model)
+    assert (fast.forcible, fast.rank, fast.witness) == _generic(model)
+    assert fast.stats["distance"] == fast.rank - SettledGraph(model).start_cost
+
+
+def test_the_papers_example_starts_in_a_collision_and_keeps_its_witness():
+    """P1 and P2 start inside each other's zone: the witness opens with their k events."""
+    model = CoupledModel(paper_example())
+    r = settled_ccc(model)
+    assert (r.forcible, r.rank, r.witness) == (True, 6, ["10", "20", "15", "50", "83", "93"])
+    assert SettledGraph(model).start_cost == 2
+
+
+def test_a_target_inside_a_safety_zone_takes_the_monolithic_route():
+    """There supcon may remove the target itself (a pending k leads to a blocking state),
+    so the settled states do not decide CCC: the settled route refuses, the default
+    route is monolithic, and they would disagree on this instance."""
+    inst = PaperInstance(8, (2, 2, 7), (1, 2, 6), (3, 2, 1), hex_neighbours(hex_sites(3)))
+    geometry = Geometry(pitch=16.0)
+    model = CoupledModel(inst, geometry)
+    assert target_in_zone(model) is not None
+    with pytest.raises(InputError) as e:
+        settled_ccc(model)
+    assert e.value.where == "target"
+    run = run_paper(instance=inst, model="coupled", geometry=geometry)
+    assert run.route == "monolithic" and run.payload["ccc"] is False
+    with pytest.raises(InputError):
+        run_paper(instance=inst, model="coupled", geometry=geometry, route="settled")
+
+
+def test_default_routes_and_refusals():
+    r = run_paper(4, 6, model="coupled", seed=1)
+    assert r.route == "settled" and r.supervisor is None and r.payload["supervisor_states"] is None
+    assert r.payload["counted"] is False and r.payload["settled"]["distance"] <= r.payload["rank"]
+    mono = run_paper(4, 6, model="coupled", seed=1, route="monolithic")
+    assert [mono.payload[k] for k in ("ccc", "rank", "witness")] == [r.payload[k] for k in ("ccc", "rank", "witness")]
+    assert run_paper(4, 6, model="coupled", seed=1, semantics="standard").route == "monolithic"
+    assert run_paper(4, 6, model="coupled", seed=1, count_states=True).route == "monolithic"
+    for options, where in (({"semantics": "standard"}, "--semantics"), ({"count_states": True}, "--route")):
+        with pytest.raises(InputError) as e:
+            run_paper(4, 6, model="coupled", seed=1, route="settled", **options)
+        assert e.value.where == where
+    with pytest.raises(InputError):
+        run_paper(4, 6, model="literal", route="settled")
+
+
+def test_cli_settled_route(capsys):
+    assert main(["paper", "--positioners", "4", "--steps", "8", "--model", "coupled", "--seed", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "settled route" in out and "V not built" in out and "CCC forcible" in out
+    assert main(["paper", "--positioners", "4", "--steps", "8", "--model", "coupled", "--route", "settled",
+                 "--semantics", "standard"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "preemptive" in err[0]
