@@ -22,12 +22,14 @@ builds ``G`` and ``allevents(G) || S``, runs ``supcon`` and ``ccc(full=False)`` 
 Each point runs under one variant (``--variants``): ``new`` (default saturation: write
 groups fired by their local transitive closure,
 :data:`supcoord.synthesis.reachability.LOCAL_CLOSURES`), ``old`` (saturation over the
-plain event steps, the code before that change), and ``whole`` (what ``supcoord paper
---model coupled`` runs: ``supcon(..., accessible=False)``, the supervisor on the whole
-state space without ``Reach``, and CCC on it; the trim supervisor's sizes are then
-counted, column ``count``, only up to ``AUTO_COUNT_COUPLED`` positioners), so one run
-compares them on the same machine and load; the results must be equal under every
-variant and order.
+plain event steps, the code before that change), ``whole`` (``supcoord paper --model
+coupled --route monolithic``: ``supcon(..., accessible=False)``, the supervisor on the
+whole state space without ``Reach``, and CCC on it; the trim supervisor's sizes are then
+counted, column ``count``, only up to ``AUTO_COUNT_COUPLED`` positioners) and
+``settled`` (what ``supcoord paper --model coupled`` runs: CCC on the settled states,
+:mod:`supcoord.paper.settled`, no supervisor built), so one run compares them on the
+same machine and load; CCC, rank and witness must be equal under every variant and
+order, and the sizes wherever they are counted.
 
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
@@ -35,7 +37,8 @@ for that order (``--all`` runs them anyway, to show where each stops).  With ``-
 
 Usage::
 
-    python benchmarks/bench_coupled.py --all --check --nodes   # N = 3..7, 19, 37; writes results/coupled.md
+    python benchmarks/bench_coupled.py --orders auto --variants whole settled --sizes 3 4 5 6 7 8 9 10 12 19 37 --all --check
+    python benchmarks/bench_coupled.py --all --check --nodes   # N = 3..8, 19, 37, every variant
     python benchmarks/bench_coupled.py --orders auto --variants old new --all --check --nodes
     python benchmarks/bench_coupled.py --sizes 3 4 5 --timeout 60 --check
     python benchmarks/bench_coupled.py --quick          # N = 3, 4; 30 s; prints, writes nothing
@@ -56,7 +59,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = [3, 4, 5, 6, 7, 8, 19, 37]
 ORDERS = ["layout", "auto"]
-VARIANTS = ["old", "new", "whole"]
+VARIANTS = ["old", "new", "whole", "settled"]
 STEPS = 8
 MEMORY = 6 * 2**30
 
@@ -93,6 +96,9 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     inst = coupled_instance(size, steps, seed)
     model = CoupledModel(inst)
     model.check()
+    if variant == "settled":
+        _settled(model, ctx, order, t0, seed)
+        return
     G, E = coupled_models(model, ctx, order=order)
     t1 = time.perf_counter()
     clusters = [len(c) for c in R.event_clusters(product(G, E))]
@@ -138,6 +144,24 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     if check and size <= 4:
         out.update(_check(model, st))
     _emit("R", out)
+
+
+def _settled(model, ctx, order: str, t0: float, seed: int) -> None:
+    """The settled route (supcoord.paper.settled, what ``supcoord paper --model coupled``
+    runs): no supervisor, so no sizes; CCC, rank and witness to compare."""
+    from supcoord.paper.coupled import positioner_order
+    from supcoord.paper.settled import settled_ccc
+
+    c = settled_ccc(model, ctx, order=order)
+    st = c.stats
+    _emit("R", {
+        "size": model.inst.size, "steps": model.inst.steps, "seed": seed, "order": order, "variant": "settled",
+        "positioner_order": positioner_order(model, order), "states": None, "transitions": None, "marked": None,
+        "ccc": c.forcible, "rank": c.rank, "witness_length": len(c.witness), "witness": c.witness,
+        "seconds": round(time.perf_counter() - t0, 3), "build": st["build_seconds"], "supcon": None,
+        "ccc_seconds": round(st["search_seconds"] + st["witness_seconds"], 3), "relations": st["relations"],
+        "buckets": st["buckets"], "max_layer_nodes": st["max_layer_nodes"], "bdd_nodes": None,
+        "peak_nodes": ctx.peak_nodes(), "rss_mb": _rss_mb()})
 
 
 def _check(model, st: dict) -> dict:
@@ -206,12 +230,12 @@ def _fmt(v) -> str:
 def table(rows: list[dict]) -> str:
     head = ["N", "order", "variant", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
             "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
-            "transitions", "rank", "equal to explicit / libFAUDES"]
+            "transitions", "rank", "settled: buckets / max layer nodes", "equal to explicit / libFAUDES"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
         prof = r.get("profile_supcon") or {}
         last = r.get("last_stage")
-        status = r["status"] if "states" in r else f"{r['status']} (in {last['stage']} at {last['at']} s, " \
+        status = r["status"] if "rank" in r else f"{r['status']} (in {last['stage']} at {last['at']} s, " \
             f"{_fmt(last.get('nodes'))} nodes)" if last else r["status"]
         eq = ""
         if "explicit_equal" in r:
@@ -221,7 +245,8 @@ def table(rows: list[dict]) -> str:
                  r.get("supcon"), r.get("ccc_seconds"), r.get("count"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
-                 r.get("transitions"), r.get("rank"), eq]
+                 r.get("transitions"), r.get("rank"),
+                 f"{r['buckets']} / {_fmt(r['max_layer_nodes'])}" if "buckets" in r else None, eq]
         out.append("| " + " | ".join(_fmt(c) for c in cells) + " |")
     return "\n".join(out)
 
@@ -270,7 +295,7 @@ def main(argv: list[str] | None = None) -> int:
                 row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes, variant)
                 rows.append(row)
                 print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
-                stop &= "states" not in row
+                stop &= "rank" not in row
             if stop and not args.all:
                 break  # larger N would not finish either
     load_after = os.getloadavg()
@@ -293,7 +318,10 @@ def main(argv: list[str] | None = None) -> int:
         f.write("Columns: `variant` = `old` (saturation over the plain event steps, the code before the local "
                 "closures), `new` (write groups fired by their local transitive closure, closures computed "
                 "inside `reach`) or `whole` (`new`, with the supervisor computed on the whole state space "
-                "without `Reach` and CCC on it: what `supcoord paper --model coupled` runs); seconds are inside "
+                "without `Reach` and CCC on it: `supcoord paper --model coupled --route monolithic`) or `settled` "
+                "(CCC on the settled states without `V`, `supcoord.paper.settled`: what `supcoord paper --model "
+                "coupled` runs; `ccc` = its A* and witness, `build` its relations; last column: the A*'s "
+                "buckets and largest distance layer); seconds are inside "
                 "the worker (imports excluded): `build` = instance, geometry "
                 "tables and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
                 "fixpoints; `supcon` = all of supcon including exact counts; `ccc` = forcibility layers up to "
@@ -315,7 +343,7 @@ def _agreement(rows: list[dict]) -> str:
     keys = ("states", "transitions", "marked", "ccc", "rank", "witness")
     by = {}
     for r in rows:
-        if "states" in r:
+        if "rank" in r:
             by.setdefault(r["size"], []).append(r)
     lines = []
     for size, rs in sorted(by.items()):

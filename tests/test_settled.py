@@ -146,3 +146,66 @@ def test_cli_settled_route(capsys):
                  "--semantics", "standard"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "preemptive" in err[0]
+
+
+def _settled_edges(model: CoupledModel):
+    """Every edge ``(y, weight, y')`` of the settled graph reachable from the start."""
+    size = model.inst.size
+    q0 = tuple(model.inst.start)
+    start = (q0, settle(model, q0, (0,) * size)[0])
+    seen, stack = {start}, [start]
+    while stack:
+        y = stack.pop()
+        pos, lvl = y
+        for i in range(size):
+            for kind, (p, level) in model.successors(i, pos, lvl).items():
+                if kind in ("k", "e"):
+                    raise AssertionError(f"an uncontrollable event at a settled state: {y}")
+                nxt = pos[:i] + (p,) + pos[i + 1:]
+                levels, d = settle(model, nxt, lvl[:i] + (level,) + lvl[i + 1:])
+                z = (nxt, levels)
+                yield y, 1 + d, z
+                if z not in seen:
+                    seen.add(z)
+                    stack.append(z)
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("group_size", [1, 2, 3, 5])
+def test_the_pattern_bound_is_consistent_and_its_bdds_are_its_values(group_size):
+    """h(y) ≤ w + h(y') on every edge, h = 0 on the target, finite wherever the target is
+    reachable, and H[b] holds exactly the configurations of value b."""
+    from supcoord.paper.settled_bound import PatternBound, neighbour_groups
+
+    checked = 0
+    for model in _random_models(seed=5, count=25):
+        bound = PatternBound(model, group_size)
+        groups = neighbour_groups(model, group_size)
+        assert sorted(i for g in groups for i in g) == list(range(model.inst.size))
+        assert all(len(g) <= group_size for g in groups)
+        assert bound.value(tuple(model.inst.target)) == 0
+        forcible, rank = settled_ccc_naive(model)
+        h0 = bound.value(tuple(model.inst.start))
+        assert (h0 is None) <= (not forcible) and (not forcible or h0 <= rank)
+        for y, w, z in _settled_edges(model):
+            hy, hz = bound.value(y[0]), bound.value(z[0])
+            if hy is not None:
+                assert hz is None or hy <= w + hz, (model.inst, y, z)
+                checked += 1
+        graph = SettledGraph(model, group_size=group_size)
+        H = graph.distance_exact()
+        for pos in {tuple(model.inst.start), tuple(model.inst.target)}:
+            cube = graph.ctx.assignment({graph.pos(i): p for i, p in enumerate(pos)})
+            values = [b for b, u in enumerate(H) if u & cube != graph.ctx.false]
+            assert values == ([] if bound.value(pos) is None else [bound.value(pos)])
+    assert checked > 500
+
+
+def test_groups_are_refused_when_their_database_would_not_fit():
+    from supcoord.paper.settled_bound import PatternBound
+
+    model = CoupledModel(coupled_instance(19, 8, 0))
+    with pytest.raises(InputError):
+        PatternBound(model, 0)
+    with pytest.raises(InputError):
+        PatternBound(model, 9)  # 8^9 entries

@@ -71,6 +71,7 @@ from ..errors import ModelError
 from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
 from .events import positioner_events
+from .settled_bound import GROUP_SIZE
 from .settled_graph import SettledGraph, State, settle, target_in_zone
 
 __all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
@@ -99,6 +100,8 @@ def _astar(graph: SettledGraph, check: ThrottledCheck) -> _Search:
     closed, layers = false, [false]
     best: int | None = 0 if graph.start & graph.target != false else None
     f, buckets = graph.heuristic(graph.start_raw[0]), 0
+    if f is None:  # even the relaxation of the bound cannot reach the target
+        return _Search(layers, None, 0)
     while True:
         if best is not None and f > best:
             break
@@ -200,14 +203,15 @@ def _witness(graph: SettledGraph, O: list[BDD]) -> list[str]:
     return path
 
 
-def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto") -> CCCResult:
+def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto",
+                group_size: int = GROUP_SIZE) -> CCCResult:
     """CCC of the coupled model under preemptive semantics on its settled states (module
     docstring): the verdict, ``rank(q0)`` and the witness that :func:`~supcoord.synthesis.ccc`
     returns on ``V``.  ``stats``: seconds (``build``, ``search``, ``witness``), the bounds
     tried, the distance found, the largest layer (BDD nodes), the number of relations.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
-    graph = SettledGraph(model, ctx, order)
+    graph = SettledGraph(model, ctx, order, group_size)
     ctx = graph.ctx
     check = ThrottledCheck(ctx)
     t1 = time.perf_counter()

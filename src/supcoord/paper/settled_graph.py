@@ -37,6 +37,7 @@ from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
 from .events import positioner_events
 from .literal import ring_step
+from .settled_bound import GROUP_SIZE, PatternBound
 
 __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "ring_distance"]
 
@@ -89,7 +90,8 @@ class SettledGraph:
     event and weight, the start ``settle(q0)`` and its ``D``, and the target.  The target
     configuration must have no arm in another's safety zone (:func:`target_in_zone`)."""
 
-    def __init__(self, model: CoupledModel, ctx: Context | None = None, order: str = "auto") -> None:
+    def __init__(self, model: CoupledModel, ctx: Context | None = None, order: str = "auto",
+                 group_size: int = GROUP_SIZE) -> None:
         model.check()
         pair = target_in_zone(model)
         if pair is not None:
@@ -98,6 +100,7 @@ class SettledGraph:
                              f"collision event is pending at the target and supcon may remove it); use the "
                              f"monolithic route", value=[pair[0] + 1, pair[1] + 1], where="target")
         self.model, self.inst = model, model.inst
+        self.bound = PatternBound(model, group_size)
         self.ctx = ctx = ctx or Context()
         n, size = self.inst.steps, self.inst.size
         for i in positioner_order(model, order):
@@ -260,20 +263,9 @@ class SettledGraph:
         return move.backward.raw_image(self.ctx, x)
 
     def distance_exact(self) -> list[BDD]:
-        """``H[b]``: the states whose ring distances to the targets sum to exactly ``b``."""
-        ctx, inst = self.ctx, self.inst
-        exact = {0: ctx.true}
-        for i in range(inst.size):
-            by_distance: dict[int, BDD] = {}
-            for p in range(inst.steps):
-                d = ring_distance(p, inst.target[i], inst.steps)
-                by_distance[d] = by_distance.get(d, ctx.false) | ctx.eq(self.pos(i), p)
-            nxt: dict[int, BDD] = {}
-            for a, u in exact.items():
-                for d, v in by_distance.items():
-                    nxt[a + d] = nxt.get(a + d, ctx.false) | (u & v)
-            exact = nxt
-        return [exact.get(b, ctx.false) for b in range(max(exact) + 1)]
+        """``H[b]``: the states whose lower bound ``h`` (:mod:`.settled_bound`) is ``b``."""
+        return self.bound.partitions(self.ctx, self.pos)
 
-    def heuristic(self, pos: tuple[int, ...]) -> int:
-        return sum(ring_distance(p, t, self.inst.steps) for p, t in zip(pos, self.inst.target))
+    def heuristic(self, pos: tuple[int, ...]) -> int | None:
+        """``h`` of a configuration, None where even the relaxation cannot reach the target."""
+        return self.bound.value(pos)
