@@ -60,6 +60,8 @@ def test_solve_cases_know_their_size_and_series():
     ({"kind": "paper", "steps": 6, "positoners": 3}, "cases[0].positoners", "positoners"),
     ({"kind": "paper", "steps": 6}, "cases[0].positioners", "missing"),
     ({"kind": "paper", "steps": 6, "positioners": 3, "model": "coupled", "route": "modular"}, "cases[0].route", "literal"),
+    ({"kind": "paper", "steps": 6, "positioners": 3, "model": "coupled", "route": "settled", "semantics": "standard"},
+     "cases[0].route", "preemptive"),
     ({"kind": "papr"}, "cases[0].kind", "must be one of"),
     ({"kind": "supcon", "family": "nope", "size": 3}, "cases[0].family", "'nope'"),
     ({"kind": "solve", "problem": "random", "rings": 1}, "cases[0].kinematics", "missing"),
@@ -104,7 +106,8 @@ def test_the_study_lists_agree_with_the_library():
     from supcoord.synthesis.reachability import METHODS
 
     assert set(FAMILY_NAMES) == set(FAMILIES) and set(SUPCON_METHODS) == set(METHODS)
-    assert all(default_route(m) == library_route(m) for m in ("literal", "coupled"))
+    assert all(default_route(m, s) == library_route(m, s)
+               for m in ("literal", "coupled") for s in ("preemptive", "standard"))
 
 
 def test_done_means_same_key_and_a_limit_at_least_as_large(tmp_path):

@@ -129,6 +129,7 @@ _LAZY: dict[str, str] = {
     "CoupledModel": "supcoord.paper.coupled",
     "Geometry": "supcoord.paper.coupled",
     "coupled_models": "supcoord.paper.coupled",
+    "settled_ccc": "supcoord.paper.settled",
     "describe": "supcoord.paper.demo",
     "run_demo": "supcoord.paper.demo",
     "solve_paper": "supcoord.paper.run",
