@@ -27,7 +27,8 @@ coupled --route monolithic``: ``supcon(..., accessible=False)``, the supervisor 
 whole state space without ``Reach``, and CCC on it; the trim supervisor's sizes are then
 counted, column ``count``, only up to ``AUTO_COUNT_COUPLED`` positioners) and
 ``settled`` (what ``supcoord paper --model coupled`` runs: CCC on the settled states,
-:mod:`supcoord.paper.settled`, no supervisor built), so one run compares them on the
+:mod:`supcoord.paper.settled`, no supervisor built; ``settled-plain``: the same with the
+A* bounded by the plain sum of ring distances instead of the pattern databases), so one run compares them on the
 same machine and load; CCC, rank and witness must be equal under every variant and
 order, and the sizes wherever they are counted.
 
@@ -59,7 +60,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = [3, 4, 5, 6, 7, 8, 19, 37]
 ORDERS = ["layout", "auto"]
-VARIANTS = ["old", "new", "whole", "settled"]
+VARIANTS = ["old", "new", "whole", "settled", "settled-plain"]
 STEPS = 8
 MEMORY = 6 * 2**30
 
@@ -96,8 +97,8 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     inst = coupled_instance(size, steps, seed)
     model = CoupledModel(inst)
     model.check()
-    if variant == "settled":
-        _settled(model, ctx, order, t0, seed)
+    if variant.startswith("settled"):
+        _settled(model, ctx, order, t0, seed, variant)
         return
     G, E = coupled_models(model, ctx, order=order)
     t1 = time.perf_counter()
@@ -146,16 +147,17 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
     _emit("R", out)
 
 
-def _settled(model, ctx, order: str, t0: float, seed: int) -> None:
+def _settled(model, ctx, order: str, t0: float, seed: int, variant: str) -> None:
     """The settled route (supcoord.paper.settled, what ``supcoord paper --model coupled``
-    runs): no supervisor, so no sizes; CCC, rank and witness to compare."""
+    runs): no supervisor, so no sizes; CCC, rank and witness to compare.  ``settled-plain``
+    bounds the A* by the plain sum of ring distances (pattern groups of one positioner)."""
     from supcoord.paper.coupled import positioner_order
-    from supcoord.paper.settled import settled_ccc
+    from supcoord.paper.settled import GROUP_SIZE, settled_ccc
 
-    c = settled_ccc(model, ctx, order=order)
+    c = settled_ccc(model, ctx, order=order, group_size=1 if variant == "settled-plain" else GROUP_SIZE)
     st = c.stats
     _emit("R", {
-        "size": model.inst.size, "steps": model.inst.steps, "seed": seed, "order": order, "variant": "settled",
+        "size": model.inst.size, "steps": model.inst.steps, "seed": seed, "order": order, "variant": variant,
         "positioner_order": positioner_order(model, order), "states": None, "transitions": None, "marked": None,
         "ccc": c.forcible, "rank": c.rank, "witness_length": len(c.witness), "witness": c.witness,
         "seconds": round(time.perf_counter() - t0, 3), "build": st["build_seconds"], "supcon": None,

@@ -31,7 +31,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 
-from ..bdd.context import BDD, Context
+from ..bdd.context import BDD, Context, ThrottledCheck
 from ..errors import InputError
 from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
@@ -113,7 +113,9 @@ class SettledGraph:
         self._stp = [ctx.eq(self.stale(i), 1, primed=True) for i in range(size)]
         self._raw: list[tuple[str, int, BDD, tuple[str, ...]]] = []
         self._identities: dict[tuple[str, ...], BDD] = {}
+        check = ThrottledCheck(ctx)
         for i in range(size):
+            check("settled relations", positioner=i + 1, of=size)
             self._add_moves(i)
         self.moves = self._merged(self._raw)
         del self._raw
