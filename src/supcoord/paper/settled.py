@@ -157,25 +157,15 @@ def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
     return O
 
 
-def _pending(model: CoupledModel, state: State) -> list[tuple[str, State]]:
-    """The uncontrollable events defined at ``state`` with their successors, by name."""
+def _successors(model: CoupledModel, state: State, controllable: bool) -> list[tuple[str, State]]:
+    """The controllable (or uncontrollable) events defined at ``state`` with their
+    successors, by name (:func:`~supcoord.des.generator.event_key`)."""
     pos, lvl = state
     out = []
     for i in range(len(pos)):
         ev = positioner_events(i + 1)
         for kind, (p, level) in model.successors(i, pos, lvl).items():
-            if not ev[kind].controllable:
-                out.append((ev[kind].name, (pos, lvl[:i] + (level,) + lvl[i + 1:])))
-    return sorted(out, key=lambda s: event_key(s[0]))
-
-
-def _controllable(model: CoupledModel, state: State) -> list[tuple[str, State]]:
-    pos, lvl = state
-    out = []
-    for i in range(len(pos)):
-        ev = positioner_events(i + 1)
-        for kind, (p, level) in model.successors(i, pos, lvl).items():
-            if ev[kind].controllable:
+            if ev[kind].controllable == controllable:
                 out.append((ev[kind].name, (pos[:i] + (p,) + pos[i + 1:], lvl[:i] + (level,) + lvl[i + 1:])))
     return sorted(out, key=lambda s: event_key(s[0]))
 
@@ -185,13 +175,13 @@ def _witness(graph: SettledGraph, O: list[BDD]) -> list[str]:
     model, false = graph.model, graph.ctx.false
     x, left, path = graph.start_raw, len(O) - 1 + graph.start_cost, []
     while x != graph.target_raw:
-        pending = _pending(model, x)
+        pending = _successors(model, x, controllable=False)
         if pending:  # the environment fires its smallest event (every one has rank − 1)
             name, x = pending[0]
             path.append(name)
             left -= 1
             continue
-        for name, z in _controllable(model, x):  # least successor rank (left − 1), then name
+        for name, z in _successors(model, x, controllable=True):  # least successor rank (left − 1), then name
             levels, cost = settle(model, *z)
             r = left - 1 - cost
             if r >= 0 and graph.code((z[0], levels)) & O[r] != false:
@@ -249,7 +239,7 @@ def settled_ccc_naive(model: CoupledModel) -> tuple[bool, int | None]:
             continue
         if y == target:
             return True, g
-        for _, z in _controllable(model, y):
+        for _, z in _successors(model, y, controllable=True):
             lv, d = settle(model, *z)
             nxt, w = (z[0], lv), 1 + d
             if g + w < best.get(nxt, g + w + 1):
