@@ -39,7 +39,7 @@ from .events import positioner_events
 from .literal import ring_step
 from .settled_bound import GROUP_SIZE, PatternBound
 
-__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "ring_distance"]
+__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone"]
 
 State = tuple[tuple[int, ...], tuple[int, ...]]  # (positions, levels)
 
@@ -55,11 +55,6 @@ def settle(model: CoupledModel, pos: tuple[int, ...], lvl: tuple[int, ...]) -> t
         elif level < min(c, 2):
             out[i], total = min(c, 2), total + min(c, 2) - level
     return tuple(out), total
-
-
-def ring_distance(p: int, t: int, n: int) -> int:
-    d = (t - p) % n
-    return min(d, n - d)
 
 
 @dataclass(frozen=True)
