@@ -18,7 +18,7 @@ from supcoord.planning.graph_order import conflict_components
 from supcoord.planning.layers import move_layers, witness_moves
 from supcoord.planning.model import CoordinationModel
 from supcoord.planning.planner import solve, solve_window
-from supcoord.planning.schedule import asap_schedule
+from supcoord.planning.schedule import asap_schedule, plan_from_schedule
 from supcoord.problems import random_problem, validate_plan
 from supcoord.problems.plan import apply_moves
 from supcoord.testing.oracle import (
@@ -579,12 +579,16 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batch
     assert checked >= p.n * 2 * 9
 
 
-def _improved_valid(kind, seed):
+def _improved_valid(kind, seed, from_start=False):
     """A random two-ring problem, its plan without improvement, and the improved plan, checked
-    to start at the start, end at the target and pass the validator."""
+    to start at the start, end at the target and pass the validator.  ``from_start``: the
+    plan is the planner's single moves scheduled from the start (:func:`plan_from_schedule`),
+    also where the planner solved the exchanged problem and scheduled from the target."""
     kin = ROT if kind == "rot" else AB_SDSS
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
     plan = solve(p, improve=0, refine=False)
+    if from_start:
+        plan = plan_from_schedule(p, [parse_event_(p, e) for e in plan.events])
     confs, stats = improve_plan(p, plan.configurations)
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]
@@ -599,7 +603,7 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
     happens): the plan is valid and shorter than without those groups."""
     from supcoord.planning import improve as improve_module
 
-    p, plan, confs, stats = _improved_valid(kind, seed)
+    p, plan, confs, stats = _improved_valid(kind, seed, from_start=True)
     assert stats["improved_with_blockers"] >= 1
     monkeypatch.setattr(improve_module, "_blocker_groups", lambda r, blockers, tried: [])
     without, stats_without = improve_plan(p, plan.configurations)
@@ -627,3 +631,28 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
     monkeypatch.setattr(_Replanner, "replan_pair", lambda self, r, q, horizon: False)
     without, _ = improve_plan(p, plan.configurations)
     assert len(confs) < len(without)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_plan_solved_the_other_way_is_the_mirror_of_the_exchanged_problems_plan(seed):
+    """The windows solve whichever direction the descent finds easier (seed 0: target →
+    start, seed 1: start → target, on SDSS-V robots unfolding from their folded lattice);
+    the plan is scheduled and improved in that direction and read backwards, so solving
+    the exchanged problem gives the same configurations in reverse.  The single-move
+    events go from the start, each allowed, to the target."""
+    from supcoord import preset_problem
+    from supcoord.planning.schedule import exchanged
+
+    p = preset_problem("sdss-v", rings=2, seed=seed, alpha_steps=12, beta_steps=7, start="folded")
+    plan, other = solve(p, speed=12.0), solve(exchanged(p), speed=12.0)
+    assert plan.status == other.status == "complete"
+    assert {plan.stats["direction"], other.stats["direction"]} == {"forward", "reverse"}
+    assert len(plan.configurations) == len(other.configurations)
+    for mine, theirs in zip(plan.configurations, other.configurations[::-1]):
+        assert np.array_equal(mine, theirs)
+    assert plan.motion_time_s == pytest.approx(other.motion_time_s, rel=1e-12)
+    assert validate_plan(p, plan)["valid"]
+    moves = [parse_event_(p, e) for e in plan.events]
+    visited = apply_moves(p, moves)
+    assert all(_single_move_valid(p, c, move) for c, move in zip(visited, moves))
+    assert np.array_equal(visited[-1], p.target)
