@@ -32,6 +32,10 @@ A* bounded by the plain sum of ring distances instead of the pattern databases),
 same machine and load; CCC, rank and witness must be equal under every variant and
 order, and the sizes wherever they are counted.
 
+``--rev REV`` also runs every variant with the code of an older git revision (its ``src``
+and ``benchmarks`` exported by ``git archive``), next to this checkout's, labelled
+``variant@REV``: a change measured against the code before it in the same run.
+
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
 (``supcon_naive``) and libFAUDES's ``SupCon`` and compares state and transition counts.
@@ -42,6 +46,7 @@ Usage::
     python benchmarks/bench_coupled.py --all --check --nodes   # N = 3..8, 19, 37, every variant
     python benchmarks/bench_coupled.py --orders auto --variants old new --all --check --nodes
     python benchmarks/bench_coupled.py --sizes 3 4 5 --timeout 60 --check
+    python benchmarks/bench_coupled.py --orders auto --variants settled --sizes 6 8 10 12 --rev ae0fe25
     python benchmarks/bench_coupled.py --quick          # N = 3, 4; 30 s; prints, writes nothing
 """
 
@@ -55,6 +60,8 @@ import platform
 import resource
 import subprocess
 import sys
+import tarfile
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -194,14 +201,29 @@ def _limit() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
 
 
+def export_revision(rev: str, into: str) -> str:
+    """``src`` and ``benchmarks`` of git revision ``rev`` under ``into``; returns the directory."""
+    root = os.path.dirname(HERE)
+    archive = os.path.join(into, f"{rev}.tar")
+    subprocess.run(["git", "-C", root, "archive", "-o", archive, rev, "src", "benchmarks"], check=True)
+    with tarfile.open(archive) as tar:
+        tar.extractall(os.path.join(into, rev), filter="data")
+    return os.path.join(into, rev)
+
+
 def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool,
-              variant: str = "new") -> dict:
-    cmd = [sys.executable, os.path.abspath(__file__), "--worker", str(size), order, str(seed), variant]
+              variant: str = "new", source: tuple[str, str] | None = None) -> dict:
+    """One point in a fresh subprocess; ``source`` = ``(rev, dir)``: the worker of an older
+    revision exported by :func:`export_revision` (its ``src`` first on ``sys.path``)."""
+    script = os.path.abspath(__file__) if source is None else os.path.join(source[1], "benchmarks", "bench_coupled.py")
+    env = None if source is None else dict(os.environ, PYTHONPATH=os.path.join(source[1], "src"))
+    cmd = [sys.executable, script, "--worker", str(size), order, str(seed), variant]
     cmd += ["--check"] if check else []
     cmd += ["--nodes"] if nodes else []
     t = time.perf_counter()
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limit, check=False)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limit, check=False,
+                           env=env)
         text, status = p.stdout, ("ok" if p.returncode == 0 else f"exit {p.returncode}")
         err = p.stderr.strip().splitlines()[-1:] if p.returncode else []
     except subprocess.TimeoutExpired as exc:
@@ -213,6 +235,8 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
     progress = [json.loads(j) for k, j in lines if k == "P"]
     row = result or {"size": size, "order": order, "variant": variant}
     row.update(status=status, wall=round(wall, 2))
+    if source is not None:
+        row["variant"] = f"{variant}@{source[0]}"
     if result is None:
         row["last_stage"] = progress[-1] if progress else None
         row["error"] = err[0] if err else None
@@ -278,6 +302,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--all", action="store_true", help="run every size even after one ran out of time")
     ap.add_argument("--quick", action="store_true", help="N = 3, 4, 30 s, print only")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "coupled.md"))
+    ap.add_argument("--rev", action="append", default=[],
+                    help="also run every variant at this older git revision, side by side (repeatable)")
     ap.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
@@ -290,16 +316,20 @@ def main(argv: list[str] | None = None) -> int:
     machine = _machine()
     load_before = os.getloadavg()
     rows = []
-    for order in args.orders:
-        for size in sorted(args.sizes):
-            stop = True
-            for variant in args.variants:  # side by side: same size, same load
-                row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes, variant)
-                rows.append(row)
-                print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
-                stop &= "rank" not in row
-            if stop and not args.all:
-                break  # larger N would not finish either
+    with tempfile.TemporaryDirectory() as tmp:
+        sources = [None] + [(rev, export_revision(rev, tmp)) for rev in args.rev]
+        for order in args.orders:
+            for size in sorted(args.sizes):
+                stop = True
+                for variant in args.variants:  # side by side: same size, same load
+                    for source in sources:
+                        row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes, variant,
+                                        source)
+                        rows.append(row)
+                        print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
+                        stop &= "rank" not in row
+                if stop and not args.all:
+                    break  # larger N would not finish either
     load_after = os.getloadavg()
     text = table(rows)
     print(text)

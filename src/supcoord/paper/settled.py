@@ -38,9 +38,9 @@ route.
 
 The settled states are encoded symbolically by :mod:`.settled_graph` (positions and one
 "stale level" bit per positioner, one relation per event and weight).  :func:`settled_ccc`
-runs A* on sets: buckets ``(g, h)`` expanded in order of ``f = g + h``, with ``h`` the sum
-of the ring distances to the targets (consistent: an event moves one arm one step and
-costs at least 1), so every state is expanded at its distance and the first ``f`` that
+runs A* on sets: buckets ``(g, h)`` expanded in order of ``f = g + h``, with ``h`` the
+additive pattern databases of :mod:`.settled_bound` (consistent: an edge lowers ``h`` by
+at most its weight), so every state is expanded at its distance and the first ``f`` that
 reaches ``T`` is ``dist(T)``; the sweep of that ``f`` is finished, so every state of
 every shortest path is expanded.  "Not forcible" is proved when nothing is left to
 expand.  The witness is then read forward as :func:`~supcoord.synthesis.witness` reads
@@ -89,7 +89,7 @@ def _astar(graph: SettledGraph, check: ThrottledCheck) -> _Search:
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
 
-    ``h`` is consistent (an event moves one arm one step and costs at least 1), so a
+    ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
     state is first expanded at its distance; ``open_[g]`` holds the states generated at
     tentative distance ``g``, pruned lazily against the expanded ones."""
     ctx = graph.ctx

@@ -1,4 +1,5 @@
-"""A lower bound on the events left to the target: additive pattern databases of moves.
+"""A lower bound on the events left to the target: additive pattern databases of moves and
+the collision events they leave pending.
 
 Partition the positioners into groups of neighbours.  For one group ``P``, relax the
 coupled model to the arms of ``P`` alone, positions only: ``P_i ∈ P`` may turn one step
@@ -7,20 +8,28 @@ zone, in the direction its priority allows (clockwise ``h`` when it outranks eve
 of ``P`` in its zone, counter-clockwise ``l`` when every one outranks it); the levels,
 the ``m`` and uncontrollable events and every arm outside ``P`` are dropped.  A move of
 the real model is a move of the relaxation: ``v``/``w`` need an empty zone, and ``h``/``l``
-need the priority over every arm in the zone, those of ``P`` among them.  ``d_P(x)`` is the least number of moves that
-brings the arms of ``P`` from their positions in ``x`` to their targets in that relaxed
-graph (a breadth-first search over the ``n^|P|`` configurations, on arrays).  Every move
-of the real model is a move of the relaxation, and each event moves at most one arm,
-which belongs to one group, so
+need the priority over every arm in the zone, those of ``P`` among them.
+
+A move costs one plus a lower bound on the collision events it leaves pending: after
+``v``, ``w``, ``h`` or ``l`` the mover ``P_i`` is at level 0, so in the settled graph the
+edge's weight ``1 + D`` counts ``d_i = min(c_i, 2)`` of its own ``k_i`` events, and
+``c_i`` is at least ``c_i^P``, the arms of ``P`` in its zone after the move.  The relaxed
+move costs ``1 + min(c_i^P, 2)``.  ``d_P(x)`` is the least cost that brings the arms of
+``P`` from their positions in ``x`` to their targets in that relaxed graph (Dial's
+algorithm over the ``n^|P|`` configurations, on arrays).  Every event of the real model
+is an edge of the relaxation of the mover's group, or moves no arm (``m``); each moves at
+most one arm, of one group, and costs at least what that group charges for it, so
 
     h(x) = Σ_P d_P(x)
 
-is a lower bound on the events from ``x`` to the target (admissible) and changes by at
-most one per event, which costs at least one (consistent: A* expands every state at its
-distance).  Where some ``d_P(x)`` is infinite the target is unreachable from ``x`` even
-in the relaxation: such states are never expanded.  Groups of one positioner give the
-plain sum of ring distances.  :meth:`PatternBound.partitions` gives ``{x : h(x) = b}``
-as BDDs for the A* of :mod:`.settled`.
+is a lower bound on the weight left from ``x`` to the target (admissible), and it drops
+along an edge by at most the edge's weight (consistent: A* expands every state at its
+distance).  Charging the zones raises the bound where arms must pass each other: on the
+12-positioner benchmark instance ``h(q0)`` goes from 23 to 26 of the rank 37
+(``benchmarks/results/coupled_zones.md``).  Where some ``d_P(x)`` is infinite the target is
+unreachable from ``x`` even in the relaxation: such states are never expanded.  Groups of
+one positioner give the plain sum of ring distances.  :meth:`PatternBound.partitions`
+gives ``{x : h(x) = b}`` as BDDs for the A* of :mod:`.settled`.
 
 References
 ----------
@@ -82,36 +91,42 @@ class PatternBound:
         self.tables = [self._table(g) for g in self.groups]
 
     def _table(self, group: list[int]) -> np.ndarray:
-        """Breadth-first distances to the group's targets in the relaxed graph (backward:
-        ``x`` gets ``d(y) + 1`` for every allowed move ``x → y``)."""
+        """Least costs to the group's targets in the relaxed graph, a move costing one plus
+        the collision events it leaves pending on the mover among the group (module
+        docstring), by Dial's algorithm backward (``x`` gets ``w + d(y)`` for every allowed
+        move ``x → y`` of cost ``w``; the costs are 1 to 3, so the states of cost ``L`` are
+        final when level ``L`` is reached)."""
         model, n, k = self.model, self.model.inst.steps, len(group)
         grid = np.indices((n,) * k).reshape(k, -1)  # configurations, axis a = group[a]
         index = lambda cols: np.ravel_multi_index(tuple(cols), (n,) * k)  # noqa: E731
-        edges = []  # (sources, destinations) of each allowed move
+        edges = []  # (sources, destinations, costs) of each kind of move
         priority = model.inst.priority
         for a, i in enumerate(group):
             for sign in (1, -1):
                 # free of the group's arms, and no arm of the group in the zone that P_i
                 # may not escape from in this direction (h: it outranks them, l: they it)
                 ok = np.ones(grid.shape[1], dtype=bool)
+                moved = grid.copy()
+                moved[a] = np.asarray(model._next[sign])[grid[a]]
+                zone_after = np.zeros(grid.shape[1], dtype=np.int16)  # the group's arms in P_i's zone after
                 for b, j in enumerate(group):
                     if j in model.neighbours[i]:
                         ok &= ~model.swept[(i, j, sign)][grid[a], grid[b]]
                         if not (priority[i] < priority[j] if sign > 0 else priority[i] > priority[j]):
                             ok &= ~model.zone[(i, j)][grid[a], grid[b]]
-                moved = grid.copy()
-                moved[a] = np.asarray(model._next[sign])[grid[a]]
-                edges.append((np.nonzero(ok)[0], index(moved[:, ok])))
+                        zone_after += model.zone[(i, j)][moved[a], grid[b]]
+                cost = 1 + np.minimum(zone_after, 2)
+                edges.append((np.nonzero(ok)[0], index(moved[:, ok]), cost[ok]))
         dist = np.full(grid.shape[1], UNREACHABLE, dtype=np.int16)
         dist[index([[model.inst.target[i]] for i in group])] = 0
-        frontier, level = dist == 0, 0
-        while frontier.any():
+        level = 0
+        while (dist[dist != UNREACHABLE] >= level).any():
+            final = dist == level
+            if final.any():
+                for src, dst, cost in edges:
+                    hit = final[dst]
+                    np.minimum.at(dist, src[hit], (level + cost[hit]).astype(np.int16))
             level += 1
-            reached = np.zeros_like(frontier)
-            for src, dst in edges:
-                reached[src[frontier[dst]]] = True
-            frontier = reached & (dist == UNREACHABLE)
-            dist[frontier] = level
         return dist.reshape((n,) * k)
 
     def value(self, pos: tuple[int, ...]) -> int | None:
