@@ -209,3 +209,56 @@ def test_groups_are_refused_when_their_database_would_not_fit():
         PatternBound(model, 0)
     with pytest.raises(InputError):
         PatternBound(model, 9)  # 8^9 entries
+
+
+@pytest.mark.timeout(120)
+def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
+    """Every entry of every group's database equals a Dijkstra (heap, one configuration at a
+    time) over the group's relaxed graph, written here from the definition: a move of
+    ``P_i`` free of the group's swept arms and, where an arm it may not escape from is in
+    its zone, refused; cost 1 + min(arms of the group in ``P_i``'s zone after it, 2).  A
+    7-positioner hex (the default geometry), where moves ending with 0, 1, 2 and 3 group
+    arms in the zone all occur."""
+    import heapq
+    import itertools
+
+    import numpy as np
+
+    from supcoord.paper.settled_bound import UNREACHABLE, PatternBound
+
+    inst = PaperInstance(6, (0, 1, 2, 3, 4, 5, 0), (3, 4, 5, 0, 1, 2, 3), (4, 1, 7, 2, 6, 3, 5),
+                         hex_neighbours(hex_sites(7)))
+    model = CoupledModel(inst)
+    bound = PatternBound(model, 5)
+    n, prio = model.inst.steps, model.inst.priority
+    zones_seen = Counter()
+    for group, table in zip(bound.groups, bound.tables):
+        into: dict[tuple, list[tuple[int, tuple]]] = {}  # y -> [(cost, x)] for every move x -> y
+        for x in itertools.product(range(n), repeat=len(group)):
+            for a, i in enumerate(group):
+                for sign in (1, -1):
+                    others = [(b, j) for b, j in enumerate(group) if j != i and j in model.neighbours[i]]
+                    if any(model.swept[(i, j, sign)][x[a], x[b]] for b, j in others):
+                        continue
+                    may_escape = lambda j: prio[i] < prio[j] if sign > 0 else prio[i] > prio[j]  # noqa: E731
+                    if any(model.zone[(i, j)][x[a], x[b]] and not may_escape(j) for b, j in others):
+                        continue
+                    y = x[:a] + (model._next[sign][x[a]],) + x[a + 1:]
+                    in_zone = sum(bool(model.zone[(i, j)][y[a], y[b]]) for b, j in others)
+                    zones_seen[in_zone] += 1
+                    into.setdefault(y, []).append((1 + min(in_zone, 2), x))
+        target = tuple(model.inst.target[i] for i in group)
+        dist, queue = {target: 0}, [(0, target)]
+        while queue:
+            d, y = heapq.heappop(queue)
+            if d > dist[y]:
+                continue
+            for w, x in into.get(y, []):
+                if d + w < dist.get(x, d + w + 1):
+                    dist[x] = d + w
+                    heapq.heappush(queue, (d + w, x))
+        expected = np.full(table.shape, UNREACHABLE, dtype=table.dtype)
+        for x, d in dist.items():
+            expected[x] = d
+        assert np.array_equal(table, expected), group
+    assert all(zones_seen[c] for c in (0, 1, 2, 3)), zones_seen
