@@ -641,7 +641,7 @@ def test_a_plan_solved_the_other_way_is_the_mirror_of_the_exchanged_problems_pla
     the exchanged problem gives the same configurations in reverse.  The single-move
     events go from the start, each allowed, to the target."""
     from supcoord import preset_problem
-    from supcoord.planning.schedule import exchanged
+    from supcoord.problems.plan import exchanged
 
     p = preset_problem("sdss-v", rings=2, seed=seed, alpha_steps=12, beta_steps=7, start="folded")
     plan, other = solve(p, speed=12.0), solve(exchanged(p), speed=12.0)

@@ -44,7 +44,7 @@ import numpy as np
 from ..bdd.context import BDD, Budget
 from ..des.symbolic_ops import allevents
 from ..errors import BudgetExceeded, InputError
-from ..problems.plan import Move, Plan, event_name, lower_bound
+from ..problems.plan import Move, Plan, event_name, exchanged, lower_bound, reversed_moves
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
@@ -55,7 +55,7 @@ from .guards import conflict_graph
 from .improve import improve_plan
 from .layers import move_layers, witness_moves
 from .model import CoordinationModel
-from .schedule import exchanged, plan_from_schedule, reversed_moves
+from .schedule import plan_from_schedule
 from .search import search, shortest_moves
 from .windows import solve_local
 

@@ -34,7 +34,6 @@ in parallel, which is what a plan stitched from local windows needs.
 from __future__ import annotations
 
 import bisect
-import copy
 from typing import Sequence
 
 import numpy as np
@@ -46,8 +45,7 @@ from ..problems.problem import Problem
 from .descent import motion_free
 from .guards import conflict_graph, is_blocked, pair_graph
 
-__all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "reversed_moves", "exchanged",
-           "SCHEDULES"]
+__all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
 
 
 def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_TOL) -> list[np.ndarray]:
@@ -135,19 +133,6 @@ def plan_from_schedule(problem: Problem, moves: Sequence[Move], stats: dict | No
         raise InputError("the moves do not end at the target configuration", value=len(moves))
     events = [event_name(problem.kinematics, p, j, d) for p, j, d in moves]
     return Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", stats)
-
-
-def reversed_moves(moves: Sequence[Move]) -> list[Move]:
-    """The moves backwards, each undone: a single-move sequence target → start where
-    ``moves`` go start → target (the guards are symmetric, :mod:`.guards`)."""
-    return [(p, j, -d) for p, j, d in reversed(moves)]
-
-
-def exchanged(problem: Problem) -> Problem:
-    """``problem`` with start and target exchanged (the same tables and guards)."""
-    back = copy.copy(problem)
-    back.start, back.target = problem.target.copy(), problem.start.copy()
-    return back
 
 
 class _Timeline:

@@ -25,6 +25,7 @@ checks as well.
 
 from __future__ import annotations
 
+import copy
 import json
 import re
 from dataclasses import dataclass, field
@@ -41,7 +42,7 @@ from ..geometry.layout import _short
 from .problem import Problem, read_json
 from .trajectory import check_speed, motion_to_json, parse_motion_fields, wrapped_angles, with_motion
 
-__all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves",
+__all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves", "reversed_moves", "exchanged",
            "compact_moves", "plan_from_moves", "load_plan", "parse_plan", "STATUSES"]
 
 STATUSES = ("complete", "infeasible", "unknown")
@@ -205,6 +206,19 @@ def checked_step(kin: Kinematics, q: Any, k: int, move: Move) -> np.ndarray:
         raise InputError(f"move {k} ({event_name(kin, p, joint, delta)}) drives positioner {p} past a hard stop",
                          value=(p, joint, delta))
     return nxt
+
+
+def reversed_moves(moves: Sequence[Move]) -> list[Move]:
+    """The moves backwards, each undone: a single-move sequence target → start where
+    ``moves`` go start → target (the planner's guards are symmetric, :mod:`supcoord.planning.guards`)."""
+    return [(p, j, -d) for p, j, d in reversed(moves)]
+
+
+def exchanged(problem: Problem) -> Problem:
+    """``problem`` with start and target exchanged (the same tables and guards)."""
+    back = copy.copy(problem)
+    back.start, back.target = problem.target.copy(), problem.start.copy()
+    return back
 
 
 def apply_moves(problem: Problem, moves: Iterable[Move]) -> list[np.ndarray]:
