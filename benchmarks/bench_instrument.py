@@ -10,6 +10,10 @@ direction choice.  Writes ``results/instrument.md`` with the command, machine an
 
     python benchmarks/bench_instrument.py                       # 13x7 and 19x10, unfold and fold
     python benchmarks/bench_instrument.py --steps 13x7 --directions unfold --out /tmp/i.md
+    python benchmarks/bench_instrument.py --steps 37x19 --directions fold --tables default,whole --out /tmp/i.md
+
+``--tables``: ``default`` (lazy tables where the whole ones would exceed
+``collision.LAZY_TABLE_BYTES``), ``whole`` (every table computed ahead) or ``lazy``, side by side.
 """
 
 from __future__ import annotations
@@ -27,15 +31,20 @@ ROOT = HERE.parent
 CHILD = r"""
 import json, resource, sys, time
 import supcoord
+from supcoord.geometry import collision
 from supcoord.problems.problem import parse_problem
 data = json.loads(sys.argv[1])
+if sys.argv[2] == "whole":
+    collision.LAZY_TABLE_BYTES = 2**62  # every table computed ahead, as before lazy tables
+elif sys.argv[2] == "lazy":
+    collision.LAZY_TABLE_BYTES = -1
 problem = parse_problem(data, "apo")
 t0, c0 = time.perf_counter(), time.process_time()
 plan = supcoord.solve(problem, improve=0, speed=12.0)
 print(json.dumps({"status": plan.status, "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
                   "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, "makespan": plan.makespan,
                   "motion_s": plan.motion_time_s, "planned": plan.stats.get("direction"),
-                  "short": plan.stats.get("descent_short")}))
+                  "short": plan.stats.get("descent_short"), "lazy": problem.tables().lazy}))
 """
 
 
@@ -53,6 +62,7 @@ def main() -> None:
     ap.add_argument("--steps", default="13x7,19x10", help="comma-separated AxB lattices")
     ap.add_argument("--directions", default="unfold,fold")
     ap.add_argument("--timeout", type=float, default=1200.0, help="seconds per case")
+    ap.add_argument("--tables", default="default", help="comma-separated: default, whole, lazy (module docstring)")
     ap.add_argument("--out", default=str(HERE / "results" / "instrument.md"))
     args = ap.parse_args()
     sys.path.insert(0, str(ROOT / "src"))
@@ -63,16 +73,16 @@ def main() -> None:
     load_before = load()
     for text in args.steps.split(","):
         steps = tuple(int(v) for v in text.lower().split("x"))
-        for direction in args.directions.split(","):
+        for direction, tables in ((d, t) for d in args.directions.split(",") for t in args.tables.split(",")):
             data = problem_json(instance, steps, direction)
             try:
-                out = subprocess.run([sys.executable, "-c", CHILD, json.dumps(data)], capture_output=True, text=True,
+                out = subprocess.run([sys.executable, "-c", CHILD, json.dumps(data), tables], capture_output=True, text=True,
                                      timeout=args.timeout, env={"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"})
                 res = json.loads(out.stdout.strip().splitlines()[-1]) if out.returncode == 0 else \
                     {"status": f"error: {out.stderr.strip().splitlines()[-1] if out.stderr.strip() else out.returncode}"}
             except subprocess.TimeoutExpired:
                 res = {"status": f"unknown (timeout {args.timeout:g} s)"}
-            row = {"steps": text, "direction": direction, **res}
+            row = {"steps": text, "direction": direction, "tables": tables, **res}
             rows.append(row)
             print(json.dumps(row), flush=True)
     lines = ["# Planning on SDSS-V's APO wok (kaiju's instance)", "",
@@ -82,11 +92,12 @@ def main() -> None:
              f"Machine: {machine()}, {cpu_model()}; load {load_before} before, {load()} after; "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Each case in a fresh process; "
              "`solve(problem, improve=0, speed=12)` (no plan improvement; 12°/s is kaiju's 2 RPM).", "",
-             "| positions | direction | answer | wall s | CPU s | peak RSS MB | makespan | motion s | planned | descent short (forward / reverse) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| positions | direction | tables | answer | wall s | CPU s | peak RSS MB | makespan | motion s | planned | descent short (forward / reverse) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         short = r.get("short") or {}
-        lines.append(f"| {r['steps']} | {r['direction']} | {r['status']} | {r.get('wall_s', 0):.1f} | "
+        kind = r["tables"] if "lazy" not in r else f"{r['tables']} ({'lazy' if r['lazy'] else 'whole'})"
+        lines.append(f"| {r['steps']} | {r['direction']} | {kind} | {r['status']} | {r.get('wall_s', 0):.1f} | "
                      f"{r.get('cpu_s', 0):.1f} | {r.get('rss_mb', 0):.0f} | {r.get('makespan', '')} | "
                      f"{(r.get('motion_s') or 0):.1f} | {r.get('planned') or ''} | "
                      f"{short.get('forward', '')} / {short.get('reverse', '')} |")

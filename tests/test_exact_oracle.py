@@ -149,6 +149,31 @@ def test_planner_agrees_with_the_oracle_on_exact_angles_and_reaches_every_route(
     assert rec.kinds["certificate: simultaneous"] >= 10, dict(rec.kinds)
 
 
+@pytest.mark.timeout(240)
+def test_lazy_tables_agree_with_the_oracle(monkeypatch):
+    """With every problem's tables lazy (:attr:`CollisionTables.lazy`, what the real wok gets
+    at fine lattices: each entry decided as the planner reads it, whole tables only for the
+    pairs a window encodes, every neighbour pair in the conflict graph), the planner's
+    verdicts, plans and certificates pass the same comparison with the oracle, over the
+    descent, the grown windows, every kind of certificate and the plan improvement (one case
+    in four: its static lines and distances read entry by entry)."""
+    from supcoord.geometry import collision
+
+    monkeypatch.setattr(collision, "LAZY_TABLE_BYTES", -1)
+    rec = Recorder(monkeypatch)
+    lazy = 0
+    for seed, setting, improve in CASES[1::4] + CASES[3::8] + CASES[-2:]:
+        data = tight_angle_problem(seed, max_product=MAX_PRODUCT)
+        p = parse_problem(data)
+        plan = rec.solve(monkeypatch, p, setting, improve=improve)
+        lazy += p.tables().lazy
+        distance = check_against_oracle(data, plan, p)
+        rec.kinds["feasible" if distance is not None else "infeasible"] += 1
+    wanted = ("feasible", "infeasible", "grown window solved", "descent then windows", "certificate: relaxed subproblem",
+              "certificate: no blocker", "certificate: conflict component")
+    assert lazy == len(CASES[1::4]) + len(CASES[3::8]) + 2 and all(rec.kinds[k] for k in wanted), dict(rec.kinds)
+
+
 @pytest.mark.timeout(60)
 @pytest.mark.parametrize("seed", range(1000, 1008))
 def test_makespans_respect_the_oracle_optimum(seed):

@@ -443,3 +443,69 @@ def test_release_free_heap_returns_freed_table_memory(monkeypatch):
     monkeypatch.setattr(table_store.ctypes, "CDLL", lambda *a, **k: (_ for _ in ()).throw(OSError("no libc")))
     table_store.release_free_heap()  # no C library to trim: nothing happens
     assert table_store._TRIM == [None]
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("seed", range(3))
+def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
+    """Lazy tables (:attr:`CollisionTables.lazy`) decide each entry on its own
+    (:meth:`CollisionTables.swept_entries`): on robots with their own arms, lattices, hard
+    stops or a wrapping alpha, unary tables (obstacles, held robots) on either side, both
+    movers and every move, every entry, bit and line equals the whole table's; and the
+    symmetrised guards read from them (:func:`.guards.blocked_entries`, ``is_blocked``,
+    ``blocked_column``) equal :func:`.guards.blocked_table`."""
+    from supcoord.planning import guards
+    from supcoord.testing.oracle.cases import tight_angle_problem
+
+    rng = np.random.default_rng(seed)
+    bases = hex_grid(2, 16.0)
+    kins = [AlphaBeta(float(rng.uniform(6, 10)), float(rng.uniform(8, 15)), int(rng.integers(5, 9)),
+                      int(rng.integers(3, 6)), [(0.0, 180.0), (-30.0, 150.0), (150.0, 180.0)][p % 3],
+                      alpha_range=None if p % 4 else (0.0, 300.0)) for p in range(len(bases))]
+    unary = {p: (rng.random(kins[p].n_positions) < 0.1, rng.random((len(kins[p].moves()), kins[p].n_positions)) < 0.1)
+             for p in range(seed % 2, len(bases), 2)}
+    whole = CollisionTables(kins[0], bases, 1.5, kins=kins, unary=unary, lazy=False)
+    lazy = CollisionTables(kins[0], bases, 1.5, kins=kins, unary=unary, lazy=True)
+    assert lazy.lazy and not whole.lazy and len(whole.pairs) > 10
+    for k in range(len(whole.pairs)):
+        for mover in (0, 1):
+            table = whole.swept(k, mover)
+            M, P, Q = table.shape
+            m, i, j = (x.ravel() for x in np.meshgrid(range(M), range(P), range(Q), indexing="ij"))
+            assert np.array_equal(lazy.swept_entries(k, mover, m, i, j), table[m, i, j]), (k, mover)
+            for mv in range(M):
+                for x in rng.integers(0, P, 2).tolist():
+                    assert np.array_equal(lazy.swept_line(k, mover, mv, i=x), table[mv, x, :])
+                for y in rng.integers(0, Q, 2).tolist():
+                    assert np.array_equal(lazy.swept_line(k, mover, mv, j=y), table[mv, :, y])
+            for mv, x, y in zip(rng.integers(0, M, 20).tolist(), rng.integers(0, P, 20).tolist(),
+                                rng.integers(0, Q, 20).tolist()):
+                assert lazy.swept_bit(k, mover, mv, x, y) == bool(table[mv, x, y])
+        static, dist = whole.static(k), whole.distances(k)
+        P, Q = static.shape
+        for x in rng.integers(0, P, 3).tolist():
+            assert np.array_equal(lazy.static_line(k, i=x), static[x, :])
+        for y in rng.integers(0, Q, 3).tolist():
+            assert np.array_equal(lazy.static_line(k, j=y), static[:, y])
+        ia, jb = rng.integers(0, P, 200), rng.integers(0, Q, 200)
+        view = lazy.distance_view(k)
+        assert np.array_equal(view[ia, jb], dist[ia, jb]) and np.array_equal(view.T[jb, ia], dist.T[jb, ia])
+    assert not lazy._bits and lazy._entries  # nothing tabulated: entries only
+    # the guards, on a tight problem of robots on their own lattices, tables whole or lazy
+    data = tight_angle_problem(seed, n=3, max_product=60_000)
+    eager_p, lazy_p = parse_problem(data), parse_problem(data)
+    lazy_p._tables = CollisionTables(lazy_p.kinematics, lazy_p.bases, lazy_p.buffers,
+                                     kins=lazy_p.robot_kinematics, unary=lazy_p.unary(), lazy=True)
+    for k in range(len(eager_p.pairs)):
+        for side in (0, 1):
+            B = guards.blocked_table(eager_p, k, side)
+            M, P, Q = B.shape
+            m, i, j = (x.ravel() for x in np.meshgrid(range(M), range(P), range(Q), indexing="ij"))
+            assert np.array_equal(guards.blocked_entries(lazy_p, k, side, m.tolist(), i.tolist(), j.tolist()),
+                                  B[m, i, j]), (k, side)
+            for mv in range(M):
+                y = int(rng.integers(0, Q))
+                assert np.array_equal(guards.blocked_column(lazy_p, k, side, mv, y), B[mv, :, y])
+                x = int(rng.integers(0, P))
+                assert guards.is_blocked(lazy_p, k, side, mv, x, y) == bool(B[mv, x, y])
+    assert not len(lazy_p.__dict__.get("_blocked_store", ()))  # no blocked table was built for the lazy problem

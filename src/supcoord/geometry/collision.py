@@ -38,153 +38,34 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .kinematics import MAX_POSITIONS, Kinematics
-from .batch import KinematicsArrays, batch_swept, fill_reversed, reversals
+from .kinematics import Kinematics
+from .batch import KinematicsArrays, batch_swept
+from .entries import LazyDistances, SweptEntries
 from .fleet import intern_kinematics, robot_reaches, robot_segments, robots_motion_collides
-from .motion import CHUNK, DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
+from .motion import DEFAULT_TOL, motion_collides, placed_segments, prefiltered_motion_collides, turn_collides
+from .pair_tables import MAX_TABLE_ENTRIES, distance_table, simultaneous_table, static_table, swept_table
 from .pairs import colliding_pairs, neighbour_pairs
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
 from .table_store import PackedTables, RecentArrays, release_free_heap
 
-__all__ = [
-    "segment_distance",
-    "point_segment_distance",
-    "rotation_clearance",
-    "neighbour_pairs",
-    "turn_collides",
-    "placed_segments",
-    "static_table",
-    "swept_table",
-    "motion_collides",
-    "distance_table",
-    "simultaneous_table",
-    "prefiltered_motion_collides",
-    "colliding_pairs",
-    "robots_motion_collides",
-    "robot_segments",
-    "robot_reaches",
-    "intern_kinematics",
-    "CollisionTables",
-    "DEFAULT_TOL",
-]
+__all__ = ["segment_distance", "point_segment_distance", "rotation_clearance", "neighbour_pairs", "turn_collides",
+           "placed_segments", "static_table", "swept_table", "motion_collides", "distance_table", "simultaneous_table",
+           "prefiltered_motion_collides", "colliding_pairs", "robots_motion_collides", "robot_segments", "robot_reaches",
+           "intern_kinematics", "CollisionTables", "DEFAULT_TOL", "MAX_TABLE_ENTRIES"]
 
-#: largest table (position pairs of one neighbour pair) built explicitly; finer
-#: discretisations must be encoded otherwise (e.g. per-joint symbolic constraints)
-MAX_TABLE_ENTRIES = MAX_POSITIONS**2
 #: bytes of float distance tables kept (least recently used dropped, recomputed on demand)
 DIST_CACHE_BYTES = 512 * 2**20
 #: bytes of static and swept tables kept unpacked (all are kept bit-packed)
 UNPACKED_CACHE_BYTES = 256 * 2**20
-
-
-def static_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float,
-                 kin_b: Kinematics | None = None) -> np.ndarray:
-    """``T[i, j]``: positioner ``a`` at position ``i`` collides with ``b`` at ``j`` (flat indices)."""
-    return distance_table(kin, base_a, base_b, kin_b) < bsum
-
-
-def distance_table(kin: Kinematics, base_a: Any, base_b: Any, kin_b: Kinematics | None = None) -> np.ndarray:
-    """``D[i, j]`` = distance between the colliding segments of ``a`` at ``i`` and ``b`` at ``j``."""
-    kin_b = kin_b or kin
-    if kin.n_positions * kin_b.n_positions > MAX_TABLE_ENTRIES:
-        raise InputError(f"a collision table of {kin.n_positions} x {kin_b.n_positions} positions exceeds "
-                         f"{MAX_TABLE_ENTRIES} entries; use fewer steps per joint", value=kin.n_positions)
-    sa = placed_segments(kin, base_a, kin.all_positions())
-    sb = placed_segments(kin_b, base_b, kin_b.all_positions())
-    out = np.empty((len(sa), len(sb)))
-    rows = max(1, CHUNK * 4 // max(len(sb), 1))
-    for lo in range(0, len(sa), rows):
-        s = sa[lo:lo + rows, None]
-        out[lo:lo + rows] = segment_distance(s[..., 0, :], s[..., 1, :], sb[None, :, 0], sb[None, :, 1])
-    return out
-
-
-def swept_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, mover: int = 0, *,
-                kin_b: Kinematics | None = None, distances: np.ndarray | None = None) -> np.ndarray:
-    """``W[m, i, j]``: the one-step move ``moves()[m]`` of the mover collides somewhere.
-
-    ``mover = 0``: ``a`` moves from position ``i`` while ``b`` stands at ``j``; ``mover = 1``:
-    ``b`` moves from ``j`` while ``a`` stands at ``i`` (indices are always ``[i_a, j_b]``).
-    A move past a hard stop is reported as blocked (``True``).  Every entry where the
-    start or end pose collides statically is ``True``.
-
-    The end-point distances ``d0``, ``d1`` (from :func:`distance_table`) settle most
-    entries: ``min(d0, d1) < r`` collides, and since the distance changes at rate at most
-    ``L`` (the sweep length), ``d(t) ≥ max(d0 − tL, d1 − (1−t)L) ≥ (d0 + d1 − L)/2``, so
-    ``(d0 + d1 − L)/2 ≥ r`` is free; the rest is decided exactly by :func:`turn_collides`.
-    A reversed move travels the poses of its forward move (:meth:`.Kinematics.reversed_moves`),
-    so its rows are copied from the forward move's (:func:`.batch.fill_reversed`).
-    """
-    kin_b = kin_b or kin
-    if distances is None:
-        distances = distance_table(kin, base_a, base_b, kin_b)
-    D = distances if mover == 0 else distances.T          # rows: the mover's positions
-    mk, sk = (kin, kin_b) if mover == 0 else (kin_b, kin)
-    pm, ps = mk.all_positions(), sk.all_positions()
-    out = np.ones((len(mk.moves()), len(pm), len(ps)), dtype=bool)
-    steps = reversals(mk)
-    reversed_ = {r for r, *_ in steps}
-    for m, (joint, delta) in enumerate(mk.moves()):
-        if m in reversed_:
-            continue
-        nxt, ok = mk.step_array(pm, joint, delta)
-        valid = np.nonzero(ok)[0]
-        d = np.zeros(mk.n_joints)
-        d[joint] = delta
-        d0, d1 = D[valid], D[mk.flat_index(nxt[valid])]
-        length = float(mk.sweep_length(d))
-        hit = (d0 < bsum) | (d1 < bsum)
-        free = ~hit & ((d0 + d1 - length) / 2 >= bsum)
-        block = ~hit & ~free
-        ii, jj = np.nonzero(block)
-        res = hit.copy()
-        if len(ii):
-            bm, bs = (base_a, base_b) if mover == 0 else (base_b, base_a)
-            res[ii, jj] = turn_collides(mk, bm, pm[valid][ii], joint, delta, sk, bs, ps[jj], bsum)
-        out[m, valid] = res
-    fill_reversed(out, steps)
-    return out if mover == 0 else np.swapaxes(out, 1, 2)
-
-
-def simultaneous_table(kin: Kinematics, base_a: Any, base_b: Any, bsum: float, tol: float = DEFAULT_TOL,
-                       distances: np.ndarray | None = None, kin_b: Kinematics | None = None) -> np.ndarray:
-    """``S[u, v, i, j]``: ``a`` doing move ``u`` from ``i`` while ``b`` does move ``v`` from ``j`` collides.
-
-    Moves are indexed ``0`` = stand still, ``1 + m`` = ``kin.moves()[m]``; so ``S[0, 0]`` is
-    the static table and ``S[1 + m, 0]``/``S[0, 1 + m]`` the swept tables of either mover.
-    Both positioners move linearly in joint space over the same time ``t ∈ [0, 1]`` (the
-    validator's interpolation); a move past a hard stop is blocked (``True``).  Same
-    end-point prefilter and certified sampling as :func:`swept_table`.  ``kin_b``: ``b``'s
-    kinematics when it differs from ``a``'s (same joints and steps, its own lattice or arms).
-    """
-    kin_b = kin_b or kin
-    if distances is None:
-        distances = distance_table(kin, base_a, base_b, kin_b)
-    pos = kin.all_positions()
-    moves = [None] + kin.moves()
-    out = np.ones((len(moves), len(moves), len(pos), len(pos)), dtype=bool)
-    nxt_idx, valid, deltas = [], [], []
-    for mv in moves:
-        d = np.zeros(kin.n_joints)
-        if mv is None:
-            nxt_idx.append(np.arange(len(pos)))
-            valid.append(np.ones(len(pos), dtype=bool))
-        else:
-            joint, delta = mv
-            d[joint] = delta
-            nxt, ok = kin.step_array(pos, joint, delta)
-            nxt_idx.append(np.where(ok, kin.flat_index(np.where(ok[:, None], nxt, pos)), 0))
-            valid.append(ok)
-        deltas.append(d)
-    for u in range(len(moves)):
-        for v in range(len(moves)):
-            vi, vj = np.nonzero(valid[u])[0], np.nonzero(valid[v])[0]
-            ii, jj = (x.ravel() for x in np.meshgrid(vi, vj, indexing="ij"))
-            res = prefiltered_motion_collides(kin, base_a, pos, ii, nxt_idx[u][ii], deltas[u], kin_b, base_b, jj,
-                                              nxt_idx[v][jj], deltas[v], bsum, distances, tol)
-            out[u, v][np.ix_(vi, vj)] = res.reshape(len(vi), len(vj))
-    return out
+#: above this many bytes of bit-packed swept tables (every distinct pair, both movers), the
+#: tables are *lazy*: entries and lines are decided one by one as the planner reads them,
+#: and a whole table is built only for a pair that a window encodes (:class:`CollisionTables`)
+LAZY_TABLE_BYTES = 512 * 2**20
+#: swept entries decided on demand and remembered (a lazy table's cache; cleared when full)
+ENTRY_CACHE = 2_000_000
+#: bytes of lazy lines (a swept table's ``[m, i, :]`` or ``[m, :, j]``) kept
+LINE_CACHE_BYTES = 128 * 2**20
 
 
 class CollisionTables:
@@ -201,10 +82,19 @@ class CollisionTables:
     into every table of ``p``'s pairs: ``T ∨ U_a[i] ∨ U_b[j]``, a move ``m`` of ``a`` blocked
     where ``V_a[m, i] ∨ U_b[j]`` (and likewise for ``b``), so whoever reads the tables
     honours them.  Such robots have tables of their own.
+
+    **Lazy tables.**  Where the distinct tables would hold more than
+    :data:`LAZY_TABLE_BYTES` bit-packed (``lazy=None``: decided from the sizes; the real APO
+    wok at 37 × 19 positions, 3,713 distinct pairs, would hold 1.8 GB, at 73 × 37 27 GB),
+    nothing is tabulated ahead: :meth:`swept_bit` and :meth:`swept_line` decide the entries
+    they are asked for (:meth:`swept_entries`, the same end-point prefilter and exact closed
+    form as :func:`swept_table` on the same numbers, so the same Booleans), and
+    :meth:`swept` builds a whole table only for a pair that is asked for one.
     """
 
     def __init__(self, kin: Kinematics, bases: Any, buffers: Any, tol: float = DEFAULT_TOL,
-                 kins: list[Kinematics] | None = None, unary: dict[int, tuple[np.ndarray, np.ndarray]] | None = None):
+                 kins: list[Kinematics] | None = None, unary: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
+                 lazy: bool | None = None):
         self.kin = kin
         self.bases = np.asarray(bases, float)
         self.buffers = np.broadcast_to(np.asarray(buffers, float), (len(self.bases),)).copy()
@@ -224,6 +114,20 @@ class CollisionTables:
         self._bits = PackedTables(UNPACKED_CACHE_BYTES)
         self._simultaneous: dict[tuple, np.ndarray] = {}
         self._dist = RecentArrays(DIST_CACHE_BYTES)
+        self._entries: dict[tuple, bool] = {}  # lazy: (swept key, m, i, j) -> entry
+        self._lines = RecentArrays(LINE_CACHE_BYTES)  # lazy: (swept key, m, axis, index) -> line
+        self._decider: SweptEntries | None = None  # lazy: the stacked geometry of every pair
+        self.lazy = self.table_bytes() > LAZY_TABLE_BYTES if lazy is None else bool(lazy)
+
+    def table_bytes(self) -> int:
+        """Bytes of the bit-packed swept tables of every distinct pair (both movers), were they
+        all computed: what decides :attr:`lazy`."""
+        total = 0
+        for key in set(self._key(k) for k in range(len(self.pairs))):
+            ka, kb = self._kin(key[2]), self._kin(key[3])
+            total += len(ka.moves()) * ka.n_positions * ((kb.n_positions + 7) // 8)
+            total += len(kb.moves()) * kb.n_positions * ((ka.n_positions + 7) // 8)
+        return total
 
     def _kin(self, u: int) -> Kinematics:
         if u in self._own:
@@ -305,19 +209,115 @@ class CollisionTables:
             self.swept(k, mover)
         return key, False
 
+    def _stored_swept(self, k: int, mover: int) -> tuple[tuple, bool] | None:
+        """``(key, mirrored)`` of ``swept(k, mover)`` if it is stored (itself or its mirror), else None."""
+        key = self._key(k) + (mover,)
+        if key in self._bits:
+            return key, False
+        mirror = self._mirror_key(key)
+        return (mirror, True) if mirror in self._bits else None
+
     def swept_bit(self, k: int, mover: int, m: int, i: int, j: int) -> bool:
-        """``swept(k, mover)[m, i, j]``, read from the bits (no table unpacked)."""
+        """``swept(k, mover)[m, i, j]``, read from the bits (no table unpacked); a lazy table's
+        entry is decided on its own (:meth:`swept_entries`) unless the table is stored."""
+        if self.lazy and self._stored_swept(k, mover) is None:
+            return bool(self.swept_entries(k, mover, [m], [i], [j])[0])
         key, mirrored = self._swept_key(k, mover)
         return self._bits.bit(key, m, j, i) if mirrored else self._bits.bit(key, m, i, j)
 
     def swept_line(self, k: int, mover: int, m: int, *, i: int | None = None, j: int | None = None) -> np.ndarray:
-        """``swept(k, mover)[m, i, :]`` (given ``i``) or ``[m, :, j]`` (given ``j``), from the bits."""
-        key, mirrored = self._swept_key(k, mover)
+        """``swept(k, mover)[m, i, :]`` (given ``i``) or ``[m, :, j]`` (given ``j``), from the bits
+        (a lazy table's line decided on its own, :meth:`swept_entries`, and kept while recent)."""
         if (i is None) == (j is None):
             raise InputError("swept_line takes exactly one of i and j", value=(i, j))
+        if self.lazy and self._stored_swept(k, mover) is None:
+            line_key = self._key(k) + (mover, m, i, j)
+            line = self._lines.get(line_key)
+            if line is None:
+                _, _, ua, ub = self._key(k)
+                if i is not None:
+                    jj = np.arange(self._kin(ub).n_positions)
+                    ii = np.full(len(jj), i)
+                else:
+                    ii = np.arange(self._kin(ua).n_positions)
+                    jj = np.full(len(ii), j)
+                line = self._lines.put(line_key, self.swept_entries(k, mover, np.full(len(ii), m), ii, jj, cache=False))
+            return line
+        key, mirrored = self._swept_key(k, mover)
         if i is not None:
             return self._bits.column(key, m, i) if mirrored else self._bits.row(key, m, i)
         return self._bits.row(key, m, j) if mirrored else self._bits.column(key, m, j)
+
+    def swept_entries(self, k: int, mover: int, m: Any, i: Any, j: Any, *, cache: bool = True) -> np.ndarray:
+        """``swept(k, mover)[m, i, j]`` for index arrays (``i`` of ``a``, ``j`` of ``b``), decided
+        from the geometry without the table, as :func:`swept_table` decides them
+        (:class:`.entries.SweptEntries`).  ``cache``: remember them (single reads)."""
+        m, i, j = (np.atleast_1d(np.asarray(v, dtype=np.int64)) for v in (m, i, j))
+        skey = self._key(k) + (mover,)
+        if not cache:
+            return self._decide_entries(k, mover, m, i, j)
+        out = np.empty(len(m), dtype=bool)
+        todo = []
+        for n, cell in enumerate(zip(m.tolist(), i.tolist(), j.tolist())):
+            hit = self._entries.get(skey + cell)
+            if hit is None:
+                todo.append(n)
+            else:
+                out[n] = hit
+        if todo:
+            sel = np.asarray(todo)
+            got = out[sel] = self._decide_entries(k, mover, m[sel], i[sel], j[sel])
+            if len(self._entries) + len(todo) > ENTRY_CACHE:
+                self._entries.clear()
+            for n, hit in zip(todo, got.tolist()):
+                self._entries[skey + (int(m[n]), int(i[n]), int(j[n]))] = hit
+        return out
+
+    def _entries_of(self) -> SweptEntries:
+        if self._decider is None:
+            keys = [self._key(q) for q in range(len(self.pairs))]
+            self._decider = SweptEntries(self._kin, self._ids, self.pairs, keys, self.unary)
+        return self._decider
+
+    def _decide_entries(self, k: Any, mover: Any, m: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """:meth:`swept_entries` without the cache, for entries of any pairs (:class:`.entries.SweptEntries`)."""
+        return self._entries_of().decide(k, mover, m, i, j)
+
+    def static_line(self, k: int, *, i: int | None = None, j: int | None = None) -> np.ndarray:
+        """``static(k)[i, :]`` (given ``i``) or ``[:, j]`` (given ``j``); lazy tables decide the
+        line on its own (:meth:`.entries.SweptEntries.static`, the same Booleans)."""
+        if (i is None) == (j is None):
+            raise InputError("static_line takes exactly one of i and j", value=(i, j))
+        if self.lazy and self._key(k) not in self._bits:
+            line_key = self._key(k) + ("static", i, j)
+            line = self._lines.get(line_key)
+            if line is None:
+                _, _, ua, ub = self._key(k)
+                idx = np.arange(self._kin(ub).n_positions if i is not None else self._kin(ua).n_positions)
+                line = self._lines.put(line_key, self._entries_of().static(k, i, idx) if i is not None else
+                                       self._entries_of().static(k, idx, j))
+            return line
+        return self.static(k)[i, :] if i is not None else self.static(k)[:, j]
+
+    def distance_view(self, k: int) -> Any:
+        """Pair ``k``'s :meth:`distances` as read by :func:`.motion.prefiltered_motion_collides`
+        (``[ia, jb]``, ``.T``): the table, or for lazy tables a :class:`.entries.LazyDistances`."""
+        if self.lazy:
+            return LazyDistances(self._entries_of(), k)
+        return self.distances(k)
+
+    def swept_bits(self, k: Any, mover: Any, m: Any, i: Any, j: Any) -> np.ndarray:
+        """:meth:`swept_bit` of entries of any pairs (arrays, broadcast): read from the bits, or
+        for lazy tables decided at once (:meth:`swept_entries_of_pairs`)."""
+        if self.lazy:
+            return self._decide_entries(k, mover, m, i, j)
+        cells = np.broadcast_arrays(*(np.asarray(v, dtype=np.int64) for v in (k, mover, m, i, j)))
+        return np.array([self.swept_bit(*cell) for cell in zip(*(c.ravel().tolist() for c in cells))], dtype=bool)
+
+    def swept_entries_of_pairs(self, k: Any, mover: Any, m: Any, i: Any, j: Any) -> np.ndarray:
+        """:meth:`swept_entries` of entries of many pairs at once (``k``, ``mover`` per entry),
+        not remembered: what a reader that batches its reads calls."""
+        return self._decide_entries(k, mover, m, i, j)
 
     def _fold_swept(self, k: int, mover: int, table: np.ndarray, rows_of_mover: bool = False) -> np.ndarray:
         """``table`` (``swept(k, mover)``, or with ``rows_of_mover`` its transpose ``[m, j, i]``

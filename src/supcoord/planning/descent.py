@@ -49,7 +49,7 @@ from ..geometry.chain_motion import chain_geometry, chain_motion_collides
 from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move
 from ..problems.problem import Problem
-from .guards import blocked_bits, conflict_graph, pair_graph
+from .guards import blocked_bits, blocked_entries, blocked_entries_of_pairs, conflict_graph, entry_lookup, pair_graph
 
 __all__ = ["descent", "descent_step", "wanted_moves", "motion_free"]
 
@@ -99,6 +99,8 @@ class _Lookups:
         self.move_index = {mv: i for i, mv in enumerate(self.moves)}
         self.adj = conflict_graph(problem)
         self.pair_adj = pair_graph(problem)
+        self.lazy = problem.tables().lazy  # entries decided as read (guards.blocked_entries)
+        self.lookup = entry_lookup(problem) if self.lazy else None
 
         self.steps = [j.steps for j in kin.joints]
         self.wraps = [j.wraps for j in kin.joints]
@@ -125,6 +127,23 @@ def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
 
 def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: np.ndarray, mq: list) -> bool:
     """Condition (1) for the moves ``mp`` of the pair member ``side`` against ``mq``."""
+    if T.lazy:  # entries decided ahead by _prefetch; any other is decided here
+        cp, cq = cp.tolist(), cq.tolist()
+        js = [T.flat_after(cq, s) for s in _subsets(mq)]
+        mm, ii, jj = [], [], []
+        for mv in mp:
+            m = T.move_index[mv]
+            for s in _subsets([x for x in mp if x != mv]):
+                i = T.flat_after(cp, s)
+                for j in js:
+                    hit = T.lookup(k, side, m, i, j)
+                    if hit:
+                        return False
+                    if hit is None:
+                        mm.append(m)
+                        ii.append(i)
+                        jj.append(j)
+        return not mm or not blocked_entries(T.problem, k, side, mm, ii, jj).any()
     bits = blocked_bits(T.problem, k, side)  # B[m, i, j]: bit 7 − j % 8 of byte [m, i, j // 8]
     cp, cq = cp.tolist(), cq.tolist()
     q_bits = [(j >> 3, 1 << (7 - (j & 7))) for j in (T.flat_after(cq, s) for s in _subsets(mq))]
@@ -173,6 +192,8 @@ def descent_step(problem: Problem, c: np.ndarray, T: _Lookups | None = None,
     T = T or _Lookups(problem)
     todo = [p for p in range(problem.n) if not np.array_equal(c[p], problem.target[p])]
     todo.sort(key=lambda p: (problem.priority[p], p))
+    if T.lazy:
+        _prefetch(T, c, todo)
     chosen: dict[int, list] = {}
     for p in todo:
         for mp in wanted_moves(problem, c, p):
@@ -180,6 +201,44 @@ def descent_step(problem: Problem, c: np.ndarray, T: _Lookups | None = None,
                 chosen[p] = mp
                 break
     return [(p, j, d) for p in todo if p in chosen for j, d in chosen[p]]
+
+
+def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int]) -> None:
+    """Decide at once (:func:`.guards.blocked_entries_of_pairs`) every lazy table entry that
+    condition (1) may read in this step: each unfinished positioner's candidate moves from its
+    poses part-way through a candidate set, against each neighbour's poses part-way through
+    one of its own (a superset of what the step reads, in one vectorised call instead of
+    thousands of small ones)."""
+    cand = {p: wanted_moves(T.problem, c, p) for p in todo}
+    poses: dict[int, list[int]] = {}  # q -> flat poses part-way through its candidates
+    starts: dict[int, set[tuple[int, int]]] = {}  # p -> (move, flat pose it starts from)
+    for p in todo:
+        cp = c[p].tolist()
+        got = {T.flat_after(cp, [])}
+        moves = set()
+        for mp in cand[p]:
+            for s in _subsets(mp):
+                got.add(T.flat_after(cp, s))
+            for mv in mp:
+                for s in _subsets([x for x in mp if x != mv]):
+                    moves.add((T.move_index[mv], T.flat_after(cp, s)))
+        poses[p] = sorted(got)
+        starts[p] = moves
+    kk, ss, mm, ii, jj = [], [], [], [], []
+    lookup = T.lookup
+    for p in todo:
+        for k, q, side in T.adj[p]:
+            js = poses.get(q) or [T.flat_after(c[q].tolist(), [])]
+            for m, i in starts[p]:
+                for j in js:
+                    if lookup(k, side, m, i, j) is None:
+                        kk.append(k)
+                        ss.append(side)
+                        mm.append(m)
+                        ii.append(i)
+                        jj.append(j)
+    if kk:
+        blocked_entries_of_pairs(T.problem, kk, ss, mm, ii, jj)
 
 
 def descent(problem: Problem, c: np.ndarray, max_steps: int | None = None,

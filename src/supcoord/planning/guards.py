@@ -33,16 +33,18 @@ References
 
 from __future__ import annotations
 
-from typing import Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
 from ..bdd.context import BDD, Context
+from ..geometry.collision import ENTRY_CACHE
 from ..geometry.kinematics import Kinematics
 from ..geometry.table_store import PackedTables, release_free_heap
 from ..problems.problem import Problem
 
-__all__ = ["blocked_table", "blocked_bits", "blocked_column", "is_blocked", "conflict_graph", "pair_graph",
+__all__ = ["blocked_table", "blocked_bits", "blocked_column", "blocked_entries", "blocked_entries_of_pairs",
+           "is_blocked", "conflict_graph", "pair_graph",
            "successor_table", "table_bdd", "var_names"]
 
 #: ``adj[p] = [(k, q, side), …]``: pair ``k = (p, q)`` with ``p`` on side ``side``
@@ -104,17 +106,139 @@ def blocked_bits(problem: Problem, k: int, side: int) -> np.ndarray:
     return store.packed(key)
 
 
+def _lazy(problem: Problem, k: int, side: int) -> bool:
+    """Are pair ``k``'s tables lazy (:attr:`CollisionTables.lazy`) and its blocked table not built?"""
+    return problem.tables().lazy and problem.pair_geometry_key(k) + (side,) not in _blocked_store(problem)
+
+
 def is_blocked(problem: Problem, k: int, side: int, m: int, i: int, j: int) -> bool:
-    """``B[m, i, j]`` of :func:`blocked_table`, read from the bits."""
+    """``B[m, i, j]`` of :func:`blocked_table`, read from the bits (lazy tables: decided on its
+    own, :func:`blocked_entries`)."""
+    if _lazy(problem, k, side):
+        return bool(blocked_entries(problem, k, side, [m], [i], [j])[0])
     store, key = _stored(problem, k, side)
     return store.bit(key, m, i, j)
 
 
 def blocked_column(problem: Problem, k: int, side: int, m: int, j: int) -> np.ndarray:
     """``B[m, :, j]`` of :func:`blocked_table` (the mover's positions blocked by the other
-    standing at ``j``), read from the bits."""
+    standing at ``j``), read from the bits (lazy tables: from two lines of the swept table,
+    :meth:`CollisionTables.swept_line`)."""
+    if _lazy(problem, k, side):
+        tables, kin = problem.tables(), problem.kinematics
+        joint, delta = kin.moves()[m]
+        rev = kin.moves().index((joint, -delta))
+        line = (lambda mv: tables.swept_line(k, 0, mv, j=j)) if side == 0 else \
+            (lambda mv: tables.swept_line(k, 1, mv, i=j))
+        out = line(m).copy()
+        nxt, ok = kin.step_array(kin.all_positions(), joint, delta)
+        idx = np.nonzero(ok)[0]
+        out[idx] |= line(rev)[kin.flat_index(nxt[idx])]
+        return out
     store, key = _stored(problem, k, side)
     return store.column(key, m, j)
+
+
+def blocked_entries(problem: Problem, k: int, side: int, m: Sequence[int], i: Sequence[int],
+                    j: Sequence[int]) -> np.ndarray:
+    """``B[m, i, j]`` of :func:`blocked_table` for index lists (mover at ``i``, the other at
+    ``j``), each decided on its own from the swept entries (:func:`blocked_entries_of_pairs`):
+    what the readers of lazy tables use.  Remembered per problem."""
+    held = _entry_cache(problem)
+    cache, g, n_pos = held.hits, held.code(k, side), held.n_pos
+    out = np.empty(len(m), dtype=bool)
+    todo = []
+    for n, (mv, x, y) in enumerate(zip(m, i, j)):
+        hit = cache.get(g + (mv * n_pos + x) * n_pos + y)
+        if hit is None:
+            todo.append(n)
+        else:
+            out[n] = hit
+    if todo:
+        sel = np.asarray(todo)
+        out[sel] = blocked_entries_of_pairs(problem, np.full(len(todo), k), np.full(len(todo), side),
+                                            np.asarray(m)[sel], np.asarray(i)[sel], np.asarray(j)[sel])
+    return out
+
+
+class _EntryCache:
+    """A problem's remembered lazy blocked entries, one integer key per entry:
+    ``code(k, side) + (m · P + i) · P + j`` (pairs of equal geometry share a code)."""
+
+    def __init__(self, problem: Problem):
+        kin = problem.kinematics
+        self.problem = problem
+        self.n_pos = kin.n_positions
+        self.span = len(kin.moves()) * self.n_pos ** 2
+        self.hits: dict[int, bool] = {}
+        self._geometry: dict[tuple, int] = {}
+        self._codes: dict[tuple[int, int], int] = {}
+
+    def code(self, k: int, side: int) -> int:
+        out = self._codes.get((k, side))
+        if out is None:
+            g = self._geometry.setdefault(self.problem.pair_geometry_key(k) + (side,), len(self._geometry))
+            out = self._codes[k, side] = g * self.span
+        return out
+
+
+def _entry_cache(problem: Problem) -> _EntryCache:
+    held = problem.__dict__.get("_blocked_entries")
+    if held is None:
+        held = problem.__dict__["_blocked_entries"] = _EntryCache(problem)
+    return held
+
+
+def blocked_entries_of_pairs(problem: Problem, k: Any, side: Any, m: Any, i: Any, j: Any) -> np.ndarray:
+    """``B[m, i, j]`` of :func:`blocked_table` of pair ``k[e]`` and mover ``side[e]`` for every
+    entry ``e``, decided at once from the swept entries of any pairs
+    (:meth:`CollisionTables.swept_entries_of_pairs`): the entry, then (unless it is blocked
+    already) the way back from the end pose.  Each is remembered (:func:`blocked_entries`)."""
+    k, side, m, i, j = (np.asarray(v, dtype=np.int64).ravel() for v in np.broadcast_arrays(k, side, m, i, j))
+    tables, kin = problem.tables(), problem.kinematics
+    nxt, rev = _successors(problem)
+
+    def swept(sel: np.ndarray, mv: np.ndarray, mover_at: np.ndarray) -> np.ndarray:
+        on_b = side[sel] == 1
+        return tables.swept_entries_of_pairs(k[sel], side[sel], mv, np.where(on_b, j[sel], mover_at),
+                                             np.where(on_b, mover_at, j[sel]))
+
+    got = swept(np.arange(len(k)), m, i)
+    back = np.nonzero(~got & (nxt[m, i] >= 0))[0]  # the way back must be free too
+    if len(back):
+        got[back] = swept(back, rev[m[back]], nxt[m[back], i[back]])
+    held = _entry_cache(problem)
+    cache, code, n_pos = held.hits, held.code, held.n_pos
+    if len(cache) + len(k) > ENTRY_CACHE:
+        cache.clear()
+    for kk, s, mv, x, y, hit in zip(k.tolist(), side.tolist(), m.tolist(), i.tolist(), j.tolist(), got.tolist()):
+        cache[code(kk, s) + (mv * n_pos + x) * n_pos + y] = hit
+    return got
+
+
+def _successors(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """``(nxt, rev)``: ``nxt[m, i]`` the flat position after move ``m`` from ``i`` (−1 past a
+    hard stop), ``rev[m]`` the move back."""
+    held = problem.__dict__.get("_successors")
+    if held is None:
+        kin = problem.kinematics
+        moves = kin.moves()
+        pos = kin.all_positions()
+        nxt = np.full((len(moves), len(pos)), -1, dtype=np.int64)
+        for mv, (joint, delta) in enumerate(moves):
+            q, ok = kin.step_array(pos, joint, delta)
+            nxt[mv, ok] = kin.flat_index(q[ok])
+        rev = np.array([moves.index((joint, -delta)) for joint, delta in moves])
+        held = problem.__dict__["_successors"] = (nxt, rev)
+    return held
+
+
+def entry_lookup(problem: Problem) -> Callable[[int, int, int, int, int], bool | None]:
+    """``lookup(k, side, m, i, j)``: the remembered lazy entry ``B[m, i, j]`` of pair ``k``
+    (mover ``side``), None if not decided yet (a reader's fast path)."""
+    held = _entry_cache(problem)
+    cache, code, n_pos = held.hits, held.code, held.n_pos
+    return lambda k, side, m, i, j: cache.get(code(k, side) + (m * n_pos + i) * n_pos + j)
 
 
 def _move_blocked_any(problem: Problem, k: int) -> bool:
@@ -151,8 +275,14 @@ def pair_graph(problem: Problem) -> Adjacency:
 
 def conflict_graph(problem: Problem) -> Adjacency:
     """``adj[p] = [(k, q, side), …]``: the neighbour pairs ``k = (p, q)`` whose tables block
-    something (pairs that can ever collide given the motion ranges); ``side`` is ``p``'s."""
+    something (pairs that can ever collide given the motion ranges); ``side`` is ``p``'s.
+    With lazy tables (:attr:`CollisionTables.lazy`) every neighbour pair: proving that a
+    pair never blocks would take its whole tables, and a pair that never blocks only costs
+    guards that are always true."""
     cache = problem.__dict__.get("_conflict_adj")
+    if cache is None and problem.tables().lazy:
+        cache = problem.__dict__["_conflict_adj"] = pair_graph(problem)
+        _entry_cache(problem), _successors(problem)  # held now, so that copies of the problem share them
     if cache is None:
         if problem.robot_kinematics is not None or problem.unary():  # few shared tables: many pairs per call
             problem.tables().prepare(range(len(problem.pairs)))

@@ -148,7 +148,7 @@ class _Replanner:
             v = 0 if j0 == j1 else self.option_of(q, t)
             if u == 0 and v == 0:
                 if (r, q) in self.conflict:
-                    ok &= ~(self.tables.static(k)[:, j0] if side == 0 else self.tables.static(k)[j0, :])
+                    ok &= ~(self.tables.static_line(k, j=j0) if side == 0 else self.tables.static_line(k, i=j0))
             elif u == 0 and v < self.n_single:  # q turns one joint past a standing r: q's swept table
                 if (r, q) in self.conflict:
                     # swept(k, 1 − side)[move of q, i_a, j_b], q at j0

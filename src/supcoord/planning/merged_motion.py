@@ -76,7 +76,7 @@ class MergedMotions:
         ii_s = np.concatenate([ii[sel] for _, ii, sel in parts])
         v_s = np.concatenate([np.full(len(sel), v) for (v, _), (_, _, sel) in zip(keys, parts)])
         j_s = np.concatenate([np.full(len(sel), j0) for (_, j0), (_, _, sel) in zip(keys, parts)])
-        dist = problem.tables().distances(k)
+        dist = problem.tables().distance_view(k)
         dist = dist if side == 0 else dist.T  # [position of r, position of q]
         out = prefiltered_motion_collides(
             problem.kin(r), problem.bases[r], pos, ii_s, nxt[uu_s, ii_s], self.deltas[uu_s],

@@ -36,7 +36,12 @@ import numpy as np
 
 from ..geometry.motion import prefiltered_motion_collides
 
-__all__ = ["pair_replan"]
+__all__ = ["pair_replan", "PAIR_STATES"]
+
+#: the largest product of two robots' positions re-planned together (``1,000²``: a 37 × 19
+#: lattice's 703² = 494,209 is, the APO wok's 73 × 37 = 2,701² is not: a boolean layer of
+#: 7.3 million states per step and 81 motion entries per state pair to remember)
+PAIR_STATES = 1_000_000
 
 
 def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
@@ -44,10 +49,13 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     """New trajectories ``(τ_r, τ_b)`` (length ``horizon + 1``) of neighbours ``r`` and ``b``
     (pair ``k`` of the problem, ``side`` = ``r``'s) planned together (module docstring), if
     both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
-    plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured)."""
+    plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured).
+    None too where the pair's product of positions exceeds :data:`PAIR_STATES` (not tried)."""
     npos, n_opt = len(rp.pos), len(rp.deltas)
+    if npos * npos > PAIR_STATES:
+        return None
     problem = rp.problem
-    dist = rp.tables.distances(k)
+    dist = rp.tables.distance_view(k)
     dist = dist if side == 0 else dist.T  # [position of r, position of b]
     bsum = float(problem.buffers[r] + problem.buffers[b])
     deltas = np.asarray(rp.deltas)

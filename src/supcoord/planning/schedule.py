@@ -43,7 +43,7 @@ from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
 from .descent import motion_free
-from .guards import conflict_graph, is_blocked, pair_graph
+from .guards import blocked_entries_of_pairs, conflict_graph, entry_lookup, is_blocked, pair_graph
 
 __all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
 
@@ -75,18 +75,15 @@ def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_
                 s = s_min + 1  # several joints at once past a fixed obstacle
             elif qs:
                 single = np.count_nonzero(dp) == 1
-                if single:  # against a standing neighbour one joint's turn is the exact swept table's entry
+                standing = [q for q in qs if q not in at]
+                if single and standing:  # against a standing neighbour one joint's turn is the exact swept table's entry
                     m = move_index[(int(np.nonzero(dp)[0][0]), int(dp[np.nonzero(dp)[0][0]]))]
                     i = kin.flat_position(start_p)
-                    for q in qs:
-                        if q not in at:
-                            k_pair, side = pair_of[(p, q)]
-                            j = kin.flat_position(cur[q])
-                            tables = problem.tables()
-                            if tables.swept_bit(k_pair, side, m, i, j) if side == 0 else \
-                                    tables.swept_bit(k_pair, side, m, j, i):
-                                s = s_min + 1
-                                break
+                    ks, sides = np.array([pair_of[(p, q)] for q in standing]).T
+                    js = np.array([kin.flat_position(cur[q]) for q in standing])
+                    if problem.tables().swept_bits(ks, sides, m, np.where(sides == 0, i, js),
+                                                   np.where(sides == 0, js, i)).any():
+                        s = s_min + 1
                 moving = [q for q in qs if q in at or not single]
                 if s == s_min:
                     for q in moving:
@@ -200,6 +197,7 @@ class _Placer:
             for k, q, side in row:
                 self.side_of[(p, q)] = (k, side)
         self.pair_nbrs = pair_graph(problem)
+        self.lookup = entry_lookup(problem) if problem.tables().lazy else None
         self.tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(problem.n)]
 
     def single(self, d: np.ndarray) -> int | None:
@@ -216,11 +214,37 @@ class _Placer:
             return ks is None or not is_blocked(self.problem, ks[0], ks[1], mp, flat(x), flat(y))
         return motion_free(self.problem, k, side, x, dp, y, dq, self.tol)
 
+    def _prefetch(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> None:
+        """Lazy tables: decide at once (:func:`.guards.blocked_entries_of_pairs`) every entry of a
+        single move against a standing neighbour that :meth:`fits` may read."""
+        flat, lookup = self.kin.flat_position, self.lookup
+        cells = []
+        mp = self.single(dp)
+        for k, q, side in self.pair_nbrs[p]:
+            t = self.tl[q]
+            i, y, dq = t.at(s)
+            ks = self.side_of.get((p, q))
+            if dq is None and mp is not None and ks is not None:
+                cells.append((ks[0], ks[1], mp, flat(x), flat(y)))
+            ks = self.side_of.get((q, p))
+            if ks is None:
+                continue
+            end = flat(x_end)
+            for idx in range(i + (dq is not None), len(t.steps)):
+                mq = self.single(t.deltas[idx])
+                if mq is not None:
+                    cells.append((ks[0], ks[1], mq, flat(t.pos[idx]), end))
+        cells = [c for c in cells if lookup(*c) is None]
+        if cells:
+            blocked_entries_of_pairs(self.problem, *np.array(cells).T)
+
     def fits(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
         """Both conditions of :func:`timeline_schedule` for ``p`` moving ``x → x_end`` (by
         ``dp``) during step ``s``."""
         if np.count_nonzero(dp) > 1 and self.problem.own_motion_blocked(p, x, dp, self.tol)[0]:
             return False
+        if self.lookup is not None:
+            self._prefetch(p, s, x, dp, x_end)
         for k, q, side in self.pair_nbrs[p]:
             t = self.tl[q]
             i, y, dq = t.at(s)
