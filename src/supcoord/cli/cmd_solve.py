@@ -60,8 +60,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="answer infeasible as soon as no plan moves one joint at a time (default: then search "
                         "plans with several joints and positioners moving at once before answering)")
     p.add_argument("--no-refine", action="store_true",
-                   help="answer with the lattice's single-move certificate (default: where its positioners alone "
-                        "could move several joints at once, solve once more on a lattice with steps 2/3 as long)")
+                   help="answer with the lattice's single-move certificate (default: on problems too large for the "
+                        "simultaneous search, solve once more on a lattice with steps 2/3 as long)")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")

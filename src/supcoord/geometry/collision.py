@@ -60,8 +60,11 @@ DIST_CACHE_BYTES = 512 * 2**20
 UNPACKED_CACHE_BYTES = 256 * 2**20
 #: above this many bytes of bit-packed swept tables (every distinct pair, both movers), the
 #: tables are *lazy*: entries and lines are decided one by one as the planner reads them,
-#: and a whole table is built only for a pair that a window encodes (:class:`CollisionTables`)
-LAZY_TABLE_BYTES = 512 * 2**20
+#: and a whole table is built only for a pair that a window encodes (:class:`CollisionTables`).
+#: Measured on the APO wok (``benchmarks/results/instrument_lazy.md``, ``solve(improve=0)``):
+#: lazy tables took 0.5x the time at 19 x 10 (134 MB of tables), 0.43x at 25 x 13, 0.21x at
+#: 37 x 19, and as long at 13 x 7 (31 MB), with 1/3 to 1/8 of the memory and the same plans
+LAZY_TABLE_BYTES = 64 * 2**20
 #: swept entries decided on demand and remembered (a lazy table's cache; cleared when full)
 ENTRY_CACHE = 2_000_000
 #: bytes of lazy lines (a swept table's ``[m, i, :]`` or ``[m, :, j]``) kept

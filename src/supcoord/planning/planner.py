@@ -178,20 +178,32 @@ def _simultaneous_search(problem: Problem, members: Sequence[int], budget: Budge
     return {"model": "simultaneous", "path": whole["path"], "how": "a plan found by the simultaneous search"}
 
 
-def _on_finer_lattice(problem: Problem, verdict: Plan, budget: Budget, options: dict[str, Any]) -> Plan:
-    """``problem`` solved once more on the finer lattice of :func:`~supcoord.problems.refine.finer_steps`
-    after the single-move certificate ``verdict``: its plan (with ``lattice``) if it has one,
-    else ``verdict`` with what the finer lattice gave (which is about that lattice only)."""
+def _finer_solve(problem: Problem, budget: Budget, options: dict[str, Any]) -> dict[str, Any]:
+    """``problem`` solved on the finer lattice of :func:`~supcoord.problems.refine.finer_steps`:
+    ``{"steps"}`` (None: no finer lattice within the tables' bound), ``"plan"`` (None where the
+    budget ran out, then ``"why"``)."""
     steps = finer_steps(problem)
+    if steps is None:
+        return {"steps": None}
+    try:
+        return {"steps": steps, "plan": solve(at_lattice(problem, steps), budget=budget, refine=False, **options)}
+    except BudgetExceeded as exc:  # the coarse certificate still holds: say what is not known
+        return {"steps": steps, "plan": None, "why": exc.one_line()}
+
+
+def _on_finer_lattice(problem: Problem, verdict: Plan, finer: dict[str, Any]) -> Plan:
+    """After the single-move certificate ``verdict``, what the finer lattice gave
+    (:func:`_finer_solve`): its plan (with ``lattice``) if it has one, else ``verdict`` with
+    what the finer lattice gave (which is about that lattice only)."""
+    steps = finer["steps"]
     if steps is None:
         verdict.stats["refined"] = {"status": "not searched", "why": "no finer lattice within the tables' bound"}
         return verdict
     shape = " × ".join(map(str, steps))
-    try:
-        plan = solve(at_lattice(problem, steps), budget=budget, refine=False, **options)
-    except BudgetExceeded as exc:  # the coarse certificate still holds: say what is not known
-        verdict.stats["refined"] = {"lattice": list(steps), "status": "unknown", "why": exc.one_line()}
-        verdict.reason += f"; the finer {shape} lattice was not searched to the end ({exc.one_line()})"
+    plan = finer["plan"]
+    if plan is None:
+        verdict.stats["refined"] = {"lattice": list(steps), "status": "unknown", "why": finer["why"]}
+        verdict.reason += f"; the finer {shape} lattice was not searched to the end ({finer['why']})"
         return verdict
     if plan.status == "complete":
         plan.lattice = steps
@@ -271,12 +283,13 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     −1, 0 or +1 per step, :func:`.optimum.optimal_makespan`): first the certificate's robots
     alone, then the whole problem; a plan found there is returned without ``events`` (no
     single-move sequence exists), and ``stats["certificate_model"]`` says which model an
-    ``infeasible`` verdict holds for (the reason says it in words).  Where the certificate holds
-    for the single-move model only and its positioners alone can reach their targets moving
-    several joints at once (the lattice, not the robots, is in the way), ``refine`` (default)
-    solves the same problem once more on a finer lattice (:mod:`supcoord.problems.refine`,
-    steps two-thirds as long): a plan found there is returned with its ``lattice``, and
-    ``stats["refined"]`` says what the finer lattice gave.  A budget that runs out raises
+    ``infeasible`` verdict holds for (the reason says it in words).  A problem of more than
+    :data:`SIMULTANEOUS_JOINTS` joints is never searched whole with simultaneous moves: there,
+    ``refine`` (default) first solves the same problem once more on a finer lattice
+    (:mod:`supcoord.problems.refine`, steps two-thirds as long).  A plan found there is returned
+    with its ``lattice``; otherwise the certificate's robots alone are searched with
+    simultaneous moves (for the reason), and ``stats["refined"]`` says what the finer lattice
+    gave.  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
     if not isinstance(problem, Problem):
@@ -318,20 +331,29 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     lb = lower_bound(problem)
     if moves is None:
         members, how = certificate
+        stats["certificate"] = sorted(int(p) for p in members)
+        options = dict(route=route, order=order, backend=backend, progress=progress, supervisor=supervisor,
+                       validate=validate, greedy=greedy, levels=levels, improve=improve, speed=speed,
+                       simultaneous=simultaneous)
+        finer = None
+        if refine and simultaneous and problem.n * problem.kinematics.n_joints > SIMULTANEOUS_JOINTS:
+            # the whole problem is beyond the simultaneous search, so the answer is a plan on the
+            # finer lattice or the certificate: the finer lattice first, and a plan there ends it
+            # without the simultaneous search of the certificate's robots (on kaiju's APO seed 7
+            # that search took 48 of 216 s); smaller problems are searched whole instead
+            del model, descended  # the coarse lattice's windows: memory the finer one needs
+            stats["certificate_model"] = "single-move"
+            stats["seconds"] = time.perf_counter() - t0
+            finer = _finer_solve(problem, budget, options)
+            if finer["steps"] is not None and finer["plan"] is not None and finer["plan"].status == "complete":
+                return _on_finer_lattice(problem, Plan("infeasible", [], None, lb, [], "", stats), finer)
         sim = _simultaneous_search(problem, members, budget) if simultaneous else \
             {"model": "single-move", "path": None, "how": "not searched (simultaneous=False)"}
-        stats["certificate"] = sorted(int(p) for p in members)
         stats["certificate_model"] = sim["model"]
         if sim["path"] is None:
             stats["seconds"] = time.perf_counter() - t0
             verdict = Plan("infeasible", [], None, lb, [], _reason(problem, members, how, sim), stats)
-            if refine and sim["model"] == "single-move" and sim.get("alone") is not None:
-                del model, descended  # the coarse lattice's windows: memory the finer one needs
-                return _on_finer_lattice(problem, verdict, budget, dict(
-                    route=route, order=order, backend=backend, progress=progress, supervisor=supervisor,
-                    validate=validate, greedy=greedy, levels=levels, improve=improve, speed=speed,
-                    simultaneous=simultaneous))
-            return verdict
+            return verdict if finer is None else _on_finer_lattice(problem, verdict, finer)
         stats["plan_model"] = "simultaneous"  # no single-move plan exists: no single-move events
         plan = Plan("complete", sim["path"], len(sim["path"]) - 1, lb, [], "", {})
     else:
