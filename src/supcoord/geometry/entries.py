@@ -82,7 +82,8 @@ class SweptEntries:
         self.ua = np.array([key[2] for key in keys], dtype=np.int64)
         self.ub = np.array([key[3] for key in keys], dtype=np.int64)
         robots = sorted(unary)
-        self.unary_row = np.full(int(max(self.pa.max(initial=-1), self.pb.max(initial=-1))) + 1, -1, dtype=np.int64)
+        size = max(int(self.pa.max(initial=-1)), int(self.pb.max(initial=-1)), max(robots, default=-1)) + 1
+        self.unary_row = np.full(size, -1, dtype=np.int64)  # robot -> its row of unary tables (−1: none)
         self.unary_row[robots] = np.arange(len(robots))
         self.u_static = np.ones((len(robots), npos), dtype=bool)
         self.u_moves = np.ones((len(robots), self.n_moves, npos), dtype=bool)
