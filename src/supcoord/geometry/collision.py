@@ -47,7 +47,7 @@ from .pair_tables import MAX_TABLE_ENTRIES, distance_table, simultaneous_table, 
 from .pairs import colliding_pairs, neighbour_pairs
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
-from .table_store import PackedTables, RecentArrays, release_free_heap
+from .table_store import PackedTables, RecentArrays, release_free_heap, remembered
 
 __all__ = ["segment_distance", "point_segment_distance", "rotation_clearance", "neighbour_pairs", "turn_collides",
            "placed_segments", "static_table", "swept_table", "motion_collides", "distance_table", "simultaneous_table",
@@ -256,25 +256,12 @@ class CollisionTables:
         from the geometry without the table, as :func:`swept_table` decides them
         (:class:`.entries.SweptEntries`).  ``cache``: remember them (single reads)."""
         m, i, j = (np.atleast_1d(np.asarray(v, dtype=np.int64)) for v in (m, i, j))
-        skey = self._key(k) + (mover,)
         if not cache:
             return self._decide_entries(k, mover, m, i, j)
-        out = np.empty(len(m), dtype=bool)
-        todo = []
-        for n, cell in enumerate(zip(m.tolist(), i.tolist(), j.tolist())):
-            hit = self._entries.get(skey + cell)
-            if hit is None:
-                todo.append(n)
-            else:
-                out[n] = hit
-        if todo:
-            sel = np.asarray(todo)
-            got = out[sel] = self._decide_entries(k, mover, m[sel], i[sel], j[sel])
-            if len(self._entries) + len(todo) > ENTRY_CACHE:
-                self._entries.clear()
-            for n, hit in zip(todo, got.tolist()):
-                self._entries[skey + (int(m[n]), int(i[n]), int(j[n]))] = hit
-        return out
+        skey = self._key(k) + (mover,)
+        keys = [skey + cell for cell in zip(m.tolist(), i.tolist(), j.tolist())]
+        return remembered(self._entries, keys, lambda sel: self._decide_entries(k, mover, m[sel], i[sel], j[sel]),
+                          ENTRY_CACHE)
 
     def _entries_of(self) -> SweptEntries:
         if self._decider is None:

@@ -40,7 +40,7 @@ import numpy as np
 from ..bdd.context import BDD, Context
 from ..geometry.collision import ENTRY_CACHE
 from ..geometry.kinematics import Kinematics
-from ..geometry.table_store import PackedTables, release_free_heap
+from ..geometry.table_store import PackedTables, release_free_heap, remembered
 from ..problems.problem import Problem
 
 __all__ = ["blocked_table", "blocked_bits", "blocked_column", "blocked_entries", "blocked_entries_of_pairs",
@@ -145,20 +145,11 @@ def blocked_entries(problem: Problem, k: int, side: int, m: Sequence[int], i: Se
     ``j``), each decided on its own from the swept entries (:func:`blocked_entries_of_pairs`):
     what the readers of lazy tables use.  Remembered per problem."""
     held = _entry_cache(problem)
-    cache, g, n_pos = held.hits, held.code(k, side), held.n_pos
-    out = np.empty(len(m), dtype=bool)
-    todo = []
-    for n, (mv, x, y) in enumerate(zip(m, i, j)):
-        hit = cache.get(g + (mv * n_pos + x) * n_pos + y)
-        if hit is None:
-            todo.append(n)
-        else:
-            out[n] = hit
-    if todo:
-        sel = np.asarray(todo)
-        out[sel] = blocked_entries_of_pairs(problem, np.full(len(todo), k), np.full(len(todo), side),
-                                            np.asarray(m)[sel], np.asarray(i)[sel], np.asarray(j)[sel])
-    return out
+    g, n_pos = held.code(k, side), held.n_pos
+    keys = [g + (mv * n_pos + x) * n_pos + y for mv, x, y in zip(m, i, j)]
+    m, i, j = (np.asarray(v, dtype=np.int64) for v in (m, i, j))
+    return remembered(held.hits, keys, lambda sel: blocked_entries_of_pairs(problem, k, side, m[sel], i[sel], j[sel]),
+                      ENTRY_CACHE)
 
 
 class _EntryCache:
