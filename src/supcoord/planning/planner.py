@@ -339,8 +339,9 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         if refine and simultaneous and problem.n * problem.kinematics.n_joints > SIMULTANEOUS_JOINTS:
             # the whole problem is beyond the simultaneous search, so the answer is a plan on the
             # finer lattice or the certificate: the finer lattice first, and a plan there ends it
-            # without the simultaneous search of the certificate's robots (on kaiju's APO seed 7
-            # that search took 48 of 216 s); smaller problems are searched whole instead
+            # without the simultaneous search of the certificate's robots (kaiju's APO seed 7:
+            # 88 s instead of 158-168 s, benchmarks/results/vs_kaiju_apo_s7.md, with lazy tables
+            # at 19 x 10 too); smaller problems are searched whole instead
             del model, descended  # the coarse lattice's windows: memory the finer one needs
             stats["certificate_model"] = "single-move"
             stats["seconds"] = time.perf_counter() - t0
