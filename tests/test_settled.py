@@ -171,7 +171,7 @@ def _settled_edges(model: CoupledModel):
 
 
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("group_size", [1, 2, 3, 5])
+@pytest.mark.parametrize("group_size", [1, 2, 3, 6])
 def test_the_pattern_bound_is_consistent_and_its_bdds_are_its_values(group_size):
     """h(y) ≤ w + h(y') on every edge, h = 0 on the target, finite wherever the target is
     reachable, and H[b] holds exactly the configurations of value b."""
@@ -216,9 +216,11 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
     """Every entry of every group's database equals a Dijkstra (heap, one configuration at a
     time) over the group's relaxed graph, written here from the definition: a move of
     ``P_i`` free of the group's swept arms and, where an arm it may not escape from is in
-    its zone, refused; cost 1 + min(arms of the group in ``P_i``'s zone after it, 2).  A
-    7-positioner hex (the default geometry), where moves ending with 0, 1, 2 and 3 group
-    arms in the zone all occur."""
+    its zone, refused; cost 1 + min(arms of the group in ``P_i``'s zone after it, 2), plus 1
+    for each other positioner of the group next to ``P_i`` whose neighbours are all in the
+    group and whose zone goes from empty to occupied or back.  A 7-positioner hex (the
+    default geometry), where moves ending with 0, 1, 2 and 3 group arms in the zone and
+    moves charged 0 and 1 such zone changes occur."""
     import heapq
     import itertools
 
@@ -231,9 +233,15 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
     model = CoupledModel(inst)
     bound = PatternBound(model, 5)
     n, prio = model.inst.steps, model.inst.priority
-    zones_seen = Counter()
+    zones_seen, changes_seen = Counter(), Counter()
     for group, table in zip(bound.groups, bound.tables):
         into: dict[tuple, list[tuple[int, tuple]]] = {}  # y -> [(cost, x)] for every move x -> y
+        whole = [c for c, j in enumerate(group) if all(k in group for k in model.neighbours[j])]
+
+        def busy(c, conf):  # group[c]'s zone holds an arm (all its neighbours are in the group)
+            j = group[c]
+            return any(model.zone[(j, k)][conf[c], conf[group.index(k)]] for k in model.neighbours[j])
+
         for x in itertools.product(range(n), repeat=len(group)):
             for a, i in enumerate(group):
                 for sign in (1, -1):
@@ -246,7 +254,9 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
                     y = x[:a] + (model._next[sign][x[a]],) + x[a + 1:]
                     in_zone = sum(bool(model.zone[(i, j)][y[a], y[b]]) for b, j in others)
                     zones_seen[in_zone] += 1
-                    into.setdefault(y, []).append((1 + min(in_zone, 2), x))
+                    changes = sum(busy(c, x) != busy(c, y) for c in whole if c != a and group[c] in model.neighbours[i])
+                    changes_seen[changes] += 1
+                    into.setdefault(y, []).append((1 + min(in_zone, 2) + changes, x))
         target = tuple(model.inst.target[i] for i in group)
         dist, queue = {target: 0}, [(0, target)]
         while queue:
@@ -262,3 +272,4 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
             expected[x] = d
         assert np.array_equal(table, expected), group
     assert all(zones_seen[c] for c in (0, 1, 2, 3)), zones_seen
+    assert all(changes_seen[c] for c in (0, 1)), changes_seen

@@ -14,19 +14,29 @@ A move costs one plus a lower bound on the collision events it leaves pending: a
 ``v``, ``w``, ``h`` or ``l`` the mover ``P_i`` is at level 0, so in the settled graph the
 edge's weight ``1 + D`` counts ``d_i = min(c_i, 2)`` of its own ``k_i`` events, and
 ``c_i`` is at least ``c_i^P``, the arms of ``P`` in its zone after the move.  The relaxed
-move costs ``1 + min(c_i^P, 2)``.  ``d_P(x)`` is the least cost that brings the arms of
+move costs ``1 + min(c_i^P, 2)``, plus one for every *interior* neighbour ``j ∈ P`` of
+the mover (all of ``j``'s neighbours are in ``P``, so ``c_j = c_j^P``) whose zone turns
+from empty to occupied or back: in a settled state ``lvl_j = 0 ⟺ c_j = 0``, so an arm
+entering an empty zone leaves ``k_j`` pending and the last arm leaving one leaves ``e_j``
+pending (``j`` itself at level ≥ 1), and both are in the edge's ``D`` beside the mover's
+own ``k_i``.  A non-interior ``j`` earns nothing: an arm outside ``P`` may hold its zone
+occupied (and its level capped at 2).  ``d_P(x)`` is the least cost that brings the arms of
 ``P`` from their positions in ``x`` to their targets in that relaxed graph (Dial's
 algorithm over the ``n^|P|`` configurations, on arrays).  Every event of the real model
 is an edge of the relaxation of the mover's group, or moves no arm (``m``); each moves at
-most one arm, of one group, and costs at least what that group charges for it, so
+most one arm, of one group, and costs at least what that group charges for it (the
+collision events charged are those of the mover and of its group's interior
+neighbours, all distinct), so
 
     h(x) = Σ_P d_P(x)
 
 is a lower bound on the weight left from ``x`` to the target (admissible), and it drops
 along an edge by at most the edge's weight (consistent: A* expands every state at its
 distance).  Charging the zones raises the bound where arms must pass each other: on the
-12-positioner benchmark instance ``h(q0)`` goes from 23 to 26 of the rank 37
-(``benchmarks/results/coupled_zones.md``).  Where some ``d_P(x)`` is infinite the target is
+12-positioner benchmark instance ``h(q0)`` goes from 23 (ring distances) to 26 (the
+mover's own collision events, groups of 5; ``benchmarks/results/coupled_zones.md``) and
+to 32 of the rank 37 with the interior neighbours' events and groups of 6
+(``benchmarks/results/coupled_interior.md``).  Where some ``d_P(x)`` is infinite the target is
 unreachable from ``x`` even in the relaxation: such states are never expanded.  Groups of
 one positioner give the plain sum of ring distances.  :meth:`PatternBound.partitions`
 gives ``{x : h(x) = b}`` as BDDs for the A* of :mod:`.settled`.
@@ -48,9 +58,11 @@ from .coupled import CoupledModel
 
 __all__ = ["GROUP_SIZE", "neighbour_groups", "PatternBound"]
 
-#: positioners per group: a database holds ``steps ** GROUP_SIZE`` distances (32,768 at
-#: 8 steps); larger groups give a tighter bound for more table
-GROUP_SIZE = 5
+#: positioners per group: a database holds ``steps ** GROUP_SIZE`` distances (262,144 at
+#: 8 steps); larger groups give a tighter bound (more interior positioners) for more table.
+#: 6 measured fastest (``benchmarks/results/coupled_interior.md``): 7 spends more on its
+#: tables and their BDDs than the tighter bound saves at 8-12 positioners
+GROUP_SIZE = 6
 #: a database larger than this many entries is refused (memory: 1 byte an entry)
 MAX_ENTRIES = 1 << 24
 UNREACHABLE = np.iinfo(np.int16).max
@@ -92,15 +104,26 @@ class PatternBound:
 
     def _table(self, group: list[int]) -> np.ndarray:
         """Least costs to the group's targets in the relaxed graph, a move costing one plus
-        the collision events it leaves pending on the mover among the group (module
-        docstring), by Dial's algorithm backward (``x`` gets ``w + d(y)`` for every allowed
-        move ``x → y`` of cost ``w``; the costs are 1 to 3, so the states of cost ``L`` are
-        final when level ``L`` is reached)."""
+        the collision events it leaves pending on the mover among the group and on the
+        group's interior neighbours of the mover (module docstring), by Dial's algorithm
+        backward (``x`` gets ``w + d(y)`` for every allowed move ``x → y`` of cost ``w``;
+        the costs are 1 to 9, so the states of cost ``L`` are final when level ``L`` is
+        reached)."""
         model, n, k = self.model, self.model.inst.steps, len(group)
         grid = np.indices((n,) * k).reshape(k, -1)  # configurations, axis a = group[a]
         index = lambda cols: np.ravel_multi_index(tuple(cols), (n,) * k)  # noqa: E731
         edges = []  # (sources, destinations, costs) of each kind of move
         priority = model.inst.priority
+        members = set(group)
+        interior = [b for b, j in enumerate(group) if set(model.neighbours[j]) <= members]
+
+        def occupied(b: int, conf: np.ndarray) -> np.ndarray:  # c_j > 0, j = group[b] interior
+            c = np.zeros(conf.shape[1], dtype=bool)
+            for bb, jj in enumerate(group):
+                if jj in model.neighbours[group[b]]:
+                    c |= model.zone[(group[b], jj)][conf[b], conf[bb]]
+            return c
+
         for a, i in enumerate(group):
             for sign in (1, -1):
                 # free of the group's arms, and no arm of the group in the zone that P_i
@@ -116,6 +139,9 @@ class PatternBound:
                             ok &= ~model.zone[(i, j)][grid[a], grid[b]]
                         zone_after += model.zone[(i, j)][moved[a], grid[b]]
                 cost = 1 + np.minimum(zone_after, 2)
+                for b in interior:  # k_j into an empty zone, e_j out of the last arm
+                    if b != a and group[b] in model.neighbours[i]:
+                        cost += occupied(b, grid) != occupied(b, moved)
                 edges.append((np.nonzero(ok)[0], index(moved[:, ok]), cost[ok]))
         dist = np.full(grid.shape[1], UNREACHABLE, dtype=np.int16)
         dist[index([[model.inst.target[i]] for i in group])] = 0
