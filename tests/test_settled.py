@@ -273,3 +273,70 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
         assert np.array_equal(table, expected), group
     assert all(zones_seen[c] for c in (0, 1, 2, 3)), zones_seen
     assert all(changes_seen[c] for c in (0, 1)), changes_seen
+
+
+@pytest.mark.timeout(240)
+def test_a_blocked_group_answers_as_the_explicit_twin_does():
+    """Groups of one in the bound (they never block) and certificate groups of two or three
+    on crowded instances of 4-5 positioners: every "not forcible" answered by a blocked
+    group is also the explicit Dijkstra's answer, and every other instance still gets
+    the search's verdict and rank (and, up to 4 positioners, the generic route's witness)."""
+    rng = random.Random(23)
+    seen = Counter()
+    while sum(seen.values()) < 40:
+        size, steps = rng.choice([4, 4, 5]), rng.choice([4, 5])
+        inst = PaperInstance(steps, tuple(rng.randrange(steps) for _ in range(size)),
+                             tuple(rng.randrange(steps) for _ in range(size)), tuple(rng.sample(range(1, size + 1), size)),
+                             hex_neighbours(hex_sites(size)))
+        model = CoupledModel(inst, Geometry(pitch=rng.choice([16.0, 18.0])))
+        if model.start_collisions or model.target_collisions or target_in_zone(model):
+            continue
+        certificate = rng.choice([2, 3])
+        fast = settled_ccc(model, group_size=1, certificate_size=certificate)
+        assert (fast.forcible, fast.rank) == settled_ccc_naive(model), inst
+        if size <= 4:
+            assert (fast.forcible, fast.rank, fast.witness) == _generic(model), inst
+        if "blocked_group" in fast.stats:
+            assert 2 <= len(fast.stats["blocked_group"]) <= certificate and not fast.forcible
+            seen["blocked"] += 1
+        else:
+            seen["searched, forcible" if fast.forcible else "searched, not forcible"] += 1
+    assert all(seen[k] >= 3 for k in ("blocked", "searched, forcible", "searched, not forcible")), seen
+
+
+@pytest.mark.timeout(120)
+def test_the_19_positioner_benchmark_instance_is_blocked():
+    """``supcoord paper --positioners 19 --steps 8 --model coupled`` (seed 0) answers "not
+    forcible" from a group of 5; a breadth-first search written here from the definition
+    (only the group's arms: a move free of their swept arms, and with one of them in the
+    mover's zone only the way its priority allows) confirms that the group's targets are
+    unreachable from its starts, over a non-trivial set of configurations."""
+    from supcoord.paper.settled_bound import PatternBound
+
+    model = CoupledModel(coupled_instance(19, 8, 0))
+    start, target, prio = model.inst.start, model.inst.target, model.inst.priority
+    group = PatternBound(model).blocked_group(tuple(start))
+    assert group is not None and len(group) == 5
+    seen = {tuple(start[i] for i in group)}
+    frontier = list(seen)
+    while frontier:
+        nxt = []
+        for x in frontier:
+            for a, i in enumerate(group):
+                others = [(b, j) for b, j in enumerate(group) if j in model.neighbours[i]]
+                for sign in (1, -1):
+                    if any(model.swept[(i, j, sign)][x[a], x[b]] for b, j in others):
+                        continue
+                    if any(model.zone[(i, j)][x[a], x[b]] and not (prio[i] < prio[j] if sign > 0 else prio[i] > prio[j])
+                           for b, j in others):
+                        continue
+                    y = x[:a] + ((x[a] + sign) % model.inst.steps,) + x[a + 1:]
+                    if y not in seen:
+                        seen.add(y)
+                        nxt.append(y)
+        frontier = nxt
+    assert tuple(target[i] for i in group) not in seen
+    assert len(seen) > 100, len(seen)
+    answer = run_paper(19, 8, "coupled", 0).payload
+    assert answer["ccc"] is False and answer["rank"] is None and answer["witness"] == []
+    assert answer["certificate"].startswith(", ".join(f"P{i + 1}" for i in group[:-1]))

@@ -71,8 +71,8 @@ from ..errors import ModelError
 from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
 from .events import positioner_events
-from .settled_bound import GROUP_SIZE
-from .settled_graph import SettledGraph, State, settle, target_in_zone
+from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
+from .settled_graph import SettledGraph, State, check_settled_route, settle, target_in_zone
 
 __all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
 
@@ -193,22 +193,47 @@ def _witness(graph: SettledGraph, O: list[BDD]) -> list[str]:
     return path
 
 
+def _blocked_text(group: list[int]) -> str:
+    names = [f"P{i + 1}" for i in group]
+    who = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+    return (f"{who} cannot reach their targets from their starts even with every other arm removed (each move "
+            f"free of their swept arms, a positioner with one of them in its safety zone turning only the way "
+            f"its priority allows); every move of the coupled model is such a move")
+
+
 def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto",
-                group_size: int = GROUP_SIZE) -> CCCResult:
+                group_size: int = GROUP_SIZE, certificate_size: int = CERTIFICATE_SIZE) -> CCCResult:
     """CCC of the coupled model under preemptive semantics on its settled states (module
     docstring): the verdict, ``rank(q0)`` and the witness that :func:`~supcoord.synthesis.ccc`
     returns on ``V``.  ``stats``: seconds (``build``, ``search``, ``witness``), the bounds
     tried, the distance found, the largest layer (BDD nodes), the number of relations.
+
+    Before any BDD is built, a group of positioners whose relaxation cannot reach its
+    targets (:meth:`~.settled_bound.PatternBound.blocked_group`, groups of up to
+    ``certificate_size`` around each positioner) answers "not forcible" at once, with
+    ``stats["certificate"]`` and ``stats["blocked_group"]`` (1-based) saying which.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
-    graph = SettledGraph(model, ctx, order, group_size)
+    check_settled_route(model)
+    start = tuple(model.inst.start)
+    if start == tuple(model.inst.target):
+        return CCCResult(True, [], 0, [], {"route": "settled", "relations": 0, "build_seconds": 0.0,
+                                           "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0,
+                                           "distance": 0, "max_layer_nodes": 0,
+                                           "seconds": round(time.perf_counter() - t0, 4)})
+    bound = PatternBound(model, group_size)
+    group = bound.blocked_group(start, certificate_size)
+    if group is not None:
+        return CCCResult(False, [], None, [], {
+            "route": "settled", "relations": 0, "build_seconds": round(time.perf_counter() - t0, 4),
+            "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None, "max_layer_nodes": 0,
+            "blocked_group": [i + 1 for i in group], "certificate": _blocked_text(group),
+            "seconds": round(time.perf_counter() - t0, 4)})
+    graph = SettledGraph(model, ctx, order, group_size, bound)
     ctx = graph.ctx
     check = ThrottledCheck(ctx)
     t1 = time.perf_counter()
     stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4)}
-    if graph.start_raw == graph.target_raw:
-        stats.update(search_seconds=0.0, witness_seconds=0.0, seconds=round(time.perf_counter() - t0, 4))
-        return CCCResult(True, [], 0, [], stats)
     search = _astar(graph, check)
     t2 = time.perf_counter()
     stats["buckets"] = search.buckets

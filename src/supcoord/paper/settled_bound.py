@@ -56,37 +56,49 @@ from ..bdd.context import BDD, Context
 from ..errors import InputError
 from .coupled import CoupledModel
 
-__all__ = ["GROUP_SIZE", "neighbour_groups", "PatternBound"]
+__all__ = ["GROUP_SIZE", "CERTIFICATE_SIZE", "grown_group", "neighbour_groups", "PatternBound"]
 
 #: positioners per group: a database holds ``steps ** GROUP_SIZE`` distances (262,144 at
 #: 8 steps); larger groups give a tighter bound (more interior positioners) for more table.
 #: 6 measured fastest (``benchmarks/results/coupled_interior.md``): 7 spends more on its
 #: tables and their BDDs than the tighter bound saves at 8-12 positioners
 GROUP_SIZE = 6
+#: positioners per group that :meth:`PatternBound.blocked_group` tries around each
+#: positioner: 5 found the 19-positioner benchmark instance blocked (P1, P3, P4, P5, P13
+#: in 0.6 s for its 15 distinct groups), where groups of 4 did not
+CERTIFICATE_SIZE = 5
 #: a database larger than this many entries is refused (memory: 1 byte an entry)
 MAX_ENTRIES = 1 << 24
 UNREACHABLE = np.iinfo(np.int16).max
 
 
-def neighbour_groups(model: CoupledModel, size: int = GROUP_SIZE) -> list[list[int]]:
-    """Disjoint groups of at most ``size`` positioners covering all: each grown from the
-    lowest unassigned positioner by adding the unassigned positioner with the most
-    neighbours already in the group (ties: the lowest index)."""
+def _check_size(size: int, where: str) -> None:
     if isinstance(size, bool) or not isinstance(size, int) or size < 1:
-        raise InputError(f"group size must be a positive integer, got {size!r}", value=size, where="group_size")
+        raise InputError(f"group size must be a positive integer, got {size!r}", value=size, where=where)
+
+
+def grown_group(model: CoupledModel, seed: int, size: int, free: set[int]) -> list[int]:
+    """At most ``size`` positioners of ``free`` grown from ``seed`` by adding, one at a time,
+    the positioner with the most neighbours already in the group (ties: the lowest index)."""
+    group = [seed]
+    while len(group) < size:
+        links = {j: sum(j in model.neighbours[i] for i in group) for j in free if j not in group}
+        if not any(links.values()):
+            break
+        group.append(-max((v, -j) for j, v in links.items() if v > 0)[1])
+    return sorted(group)
+
+
+def neighbour_groups(model: CoupledModel, size: int = GROUP_SIZE) -> list[list[int]]:
+    """Disjoint groups of at most ``size`` positioners covering all, each grown
+    (:func:`grown_group`) from the lowest unassigned positioner."""
+    _check_size(size, "group_size")
     free = set(range(model.inst.size))
     groups = []
     while free:
-        group = [min(free)]
-        free.discard(group[0])
-        while len(group) < size:
-            links = {j: sum(j in model.neighbours[i] for i in group) for j in free}
-            best = max((v, -j) for j, v in links.items() if v > 0) if any(links.values()) else None
-            if best is None:
-                break
-            group.append(-best[1])
-            free.discard(-best[1])
-        groups.append(sorted(group))
+        group = grown_group(model, min(free), size, free)
+        free.difference_update(group)
+        groups.append(group)
     return groups
 
 
@@ -154,6 +166,33 @@ class PatternBound:
                     np.minimum.at(dist, src[hit], (level + cost[hit]).astype(np.int16))
             level += 1
         return dist.reshape((n,) * k)
+
+    def blocked_group(self, pos: tuple[int, ...], size: int = CERTIFICATE_SIZE) -> list[int] | None:
+        """A group whose relaxation cannot bring its arms from ``pos`` to their targets, or
+        None: first the partition's groups, then the group of at most ``size`` grown
+        (:func:`grown_group`) around each positioner in turn.
+
+        Every settled edge of the real model moves at most one arm, by a move of the
+        relaxation of any group containing it (module docstring), so such a group proves
+        the target unreachable from ``pos`` in the settled graph: no forcing string exists.
+        The relaxation keeps only the group's arms, so it proves nothing about a plan
+        that is blocked by the other arms; groups overlap freely here (no sum is taken)."""
+        _check_size(size, "certificate_size")
+        for group, table in zip(self.groups, self.tables):
+            if table[tuple(pos[i] for i in group)] == UNREACHABLE:
+                return group
+        if len(self.groups) == 1:  # the one group is every positioner: nothing larger to try
+            return None
+        n, seen = self.model.inst.steps, {tuple(g) for g in self.groups}
+        everyone = set(range(self.model.inst.size))
+        for seed in range(self.model.inst.size):
+            group = grown_group(self.model, seed, size, everyone)
+            if tuple(group) in seen or n ** len(group) > MAX_ENTRIES:
+                continue
+            seen.add(tuple(group))
+            if self._table(group)[tuple(pos[i] for i in group)] == UNREACHABLE:
+                return group
+        return None
 
     def value(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where the target is unreachable even relaxed."""

@@ -39,7 +39,7 @@ from .events import positioner_events
 from .literal import ring_step
 from .settled_bound import GROUP_SIZE, PatternBound
 
-__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone"]
+__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route"]
 
 State = tuple[tuple[int, ...], tuple[int, ...]]  # (positions, levels)
 
@@ -79,6 +79,18 @@ def target_in_zone(model: CoupledModel) -> tuple[int, int] | None:
     return None
 
 
+def check_settled_route(model: CoupledModel) -> None:
+    """Raise :class:`InputError` if the start or the target collides, or if the target has
+    an arm in another's safety zone (:func:`target_in_zone`)."""
+    model.check()
+    pair = target_in_zone(model)
+    if pair is not None:
+        raise InputError(f"the settled route needs a target configuration with no arm in another's safety zone "
+                         f"(P{pair[0] + 1} and P{pair[1] + 1} are closer than {model.geo.zone} mm there, so a "
+                         f"collision event is pending at the target and supcon may remove it); use the "
+                         f"monolithic route", value=[pair[0] + 1, pair[1] + 1], where="target")
+
+
 class SettledGraph:
     """The settled states of a coupled instance symbolically: ``pos{i}`` and ``stale{i}``
     per positioner (blocks in :func:`~.coupled.positioner_order`), one :class:`Move` per
@@ -86,16 +98,10 @@ class SettledGraph:
     configuration must have no arm in another's safety zone (:func:`target_in_zone`)."""
 
     def __init__(self, model: CoupledModel, ctx: Context | None = None, order: str = "auto",
-                 group_size: int = GROUP_SIZE) -> None:
-        model.check()
-        pair = target_in_zone(model)
-        if pair is not None:
-            raise InputError(f"the settled route needs a target configuration with no arm in another's safety zone "
-                             f"(P{pair[0] + 1} and P{pair[1] + 1} are closer than {model.geo.zone} mm there, so a "
-                             f"collision event is pending at the target and supcon may remove it); use the "
-                             f"monolithic route", value=[pair[0] + 1, pair[1] + 1], where="target")
+                 group_size: int = GROUP_SIZE, bound: PatternBound | None = None) -> None:
+        check_settled_route(model)
         self.model, self.inst = model, model.inst
-        self.bound = PatternBound(model, group_size)
+        self.bound = bound if bound is not None else PatternBound(model, group_size)
         self.ctx = ctx = ctx or Context()
         n, size = self.inst.steps, self.inst.size
         for i in positioner_order(model, order):
