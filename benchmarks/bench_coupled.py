@@ -170,6 +170,7 @@ def _settled(model, ctx, order: str, t0: float, seed: int, variant: str) -> None
         "seconds": round(time.perf_counter() - t0, 3), "build": st["build_seconds"], "supcon": None,
         "ccc_seconds": round(st["search_seconds"] + st["witness_seconds"], 3), "relations": st["relations"],
         "buckets": st["buckets"], "max_layer_nodes": st["max_layer_nodes"], "bdd_nodes": None,
+        "blocked_group": st.get("blocked_group"),
         "peak_nodes": ctx.peak_nodes(), "rss_mb": _rss_mb()})
 
 
@@ -233,7 +234,7 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
     lines = [ln.split(" ", 1) for ln in text.splitlines() if ln[:2] in ("P ", "R ")]
     result = next((json.loads(j) for k, j in lines if k == "R"), None)
     progress = [json.loads(j) for k, j in lines if k == "P"]
-    row = result or {"size": size, "order": order, "variant": variant}
+    row = result or {"size": size, "seed": seed, "order": order, "variant": variant}
     row.update(status=status, wall=round(wall, 2))
     if source is not None:
         row["variant"] = f"{variant}@{source[0]}"
@@ -254,7 +255,7 @@ def _fmt(v) -> str:
 
 
 def table(rows: list[dict]) -> str:
-    head = ["N", "order", "variant", "status", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
+    head = ["N", "seed", "order", "variant", "status", "CCC", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
             "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
             "transitions", "rank", "settled: buckets / max layer nodes", "equal to explicit / libFAUDES"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -267,7 +268,10 @@ def table(rows: list[dict]) -> str:
         if "explicit_equal" in r:
             eq = f"{'yes' if r['explicit_equal'] else 'NO'} ({r['explicit_seconds']} s) / " \
                  f"{'yes' if r['faudes_equal'] else 'NO'} ({r['faudes_seconds']} s)"
-        cells = [r["size"], r["order"], r.get("variant", "new"), status, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
+        verdict = None if "rank" not in r else "yes" if r["ccc"] else "no"
+        if r.get("blocked_group"):
+            verdict += " (blocked: " + ", ".join(f"P{i}" for i in r["blocked_group"]) + ")"
+        cells = [r["size"], r.get("seed"), r["order"], r.get("variant", "new"), status, verdict, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
                  r.get("supcon"), r.get("ccc_seconds"), r.get("count"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
@@ -296,7 +300,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="variants to compare (old: plain event steps; new: local closures; whole: supervisor "
                          "without Reach, as supcoord paper runs)")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seeds", "--seed", dest="seeds", type=int, nargs="+", default=[0],
+                    help="seeds of the random instances, each size run on each (default 0)")
     ap.add_argument("--check", action="store_true", help="compare with the explicit twin and libFAUDES (N <= 4)")
     ap.add_argument("--nodes", action="store_true", help="measure every image's operand (slower)")
     ap.add_argument("--all", action="store_true", help="run every size even after one ran out of time")
@@ -321,13 +326,14 @@ def main(argv: list[str] | None = None) -> int:
         for order in args.orders:
             for size in sorted(args.sizes):
                 stop = True
-                for variant in args.variants:  # side by side: same size, same load
-                    for source in sources:
-                        row = run_point(size, order, args.timeout, args.seed, args.check, args.nodes, variant,
-                                        source)
-                        rows.append(row)
-                        print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
-                        stop &= "rank" not in row
+                for seed in args.seeds:
+                    for variant in args.variants:  # side by side: same size, same load
+                        for source in sources:
+                            row = run_point(size, order, args.timeout, seed, args.check, args.nodes, variant,
+                                            source)
+                            rows.append(row)
+                            print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
+                            stop &= "rank" not in row
                 if stop and not args.all:
                     break  # larger N would not finish either
     load_after = os.getloadavg()
@@ -345,7 +351,7 @@ def main(argv: list[str] | None = None) -> int:
         f.write(f"Load (1/5/15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; after: "
                 f"{', '.join(f'{x:.2f}' for x in load_after)} — the machine is shared, read ratios within a run.  \n")
         f.write(f"Each point: a fresh subprocess, {args.timeout:g} s and 6 GiB at most; n = {STEPS} steps, "
-                f"seed {args.seed}.\n\n")
+                f"seeds {', '.join(map(str, args.seeds))}.\n\n")
         f.write(text + "\n\n" + agree + "\n\n")
         f.write("Columns: `variant` = `old` (saturation over the plain event steps, the code before the local "
                 "closures), `new` (write groups fired by their local transitive closure, closures computed "
@@ -353,7 +359,7 @@ def main(argv: list[str] | None = None) -> int:
                 "without `Reach` and CCC on it: `supcoord paper --model coupled --route monolithic`) or `settled` "
                 "(CCC on the settled states without `V`, `supcoord.paper.settled`: what `supcoord paper --model "
                 "coupled` runs; `ccc` = its A* and witness, `build` its relations; last column: the A*'s "
-                "buckets and largest distance layer); seconds are inside "
+                "buckets and largest distance layer); `CCC` = the verdict, with the group of positioners whose relaxation cannot reach its targets where that answered it before any search (`blocked`); seconds are inside "
                 "the worker (imports excluded): `build` = instance, geometry "
                 "tables and relations; `reach` = `Reach(G × E)`; `coreach` = the nonblocking and controllability "
                 "fixpoints; `supcon` = all of supcon including exact counts; `ccc` = forcibility layers up to "
@@ -376,16 +382,16 @@ def _agreement(rows: list[dict]) -> str:
     by = {}
     for r in rows:
         if "rank" in r:
-            by.setdefault(r["size"], []).append(r)
+            by.setdefault((r["size"], r.get("seed")), []).append(r)
     lines = []
-    for size, rs in sorted(by.items()):
+    for (size, seed), rs in sorted(by.items()):
         if len(rs) > 1:  # (a supervisor left uncounted has sizes None: compared where both counted)
             same = all(all(r[k] == rs[0][k] for k in keys if r[k] is not None and rs[0][k] is not None)
                        for r in rs[1:])
             counted = all(r["states"] is not None for r in rs)
             what = "states, transitions, marked, CCC, rank and witness" if counted else \
                 "CCC, rank and witness (sizes where counted)"
-            lines.append(f"N = {size}: {' and '.join(r['order'] + '/' + r.get('variant', 'new') for r in rs)} give "
+            lines.append(f"N = {size}, seed {seed}: {' and '.join(r['order'] + '/' + r.get('variant', 'new') for r in rs)} give "
                          f"{'the same' if same else 'DIFFERENT'} {what}")
     return "\n".join(lines) or "no size finished under two orders"
 
