@@ -298,6 +298,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         payload["distinct_components"] = res.stats["distinct_components"]
     if route == "settled":
         payload["settled"] = {k: c.stats[k] for k in ("distance", "buckets", "relations", "max_layer_nodes")}
+        payload["settled"]["blocked_group"] = c.stats.get("blocked_group")
     return PaperRun(inst, model, route, G, E, res, c, payload)
 
 

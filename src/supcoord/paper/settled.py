@@ -43,7 +43,9 @@ additive pattern databases of :mod:`.settled_bound` (consistent: an edge lowers 
 at most its weight), so every state is expanded at its distance and the first ``f`` that
 reaches ``T`` is ``dist(T)``; the sweep of that ``f`` is finished, so every state of
 every shortest path is expanded.  "Not forcible" is proved when nothing is left to
-expand.  The witness is then read forward as :func:`~supcoord.synthesis.witness` reads
+expand, or, before any BDD is built, by a group of positioners whose relaxation (their
+arms alone, :mod:`.settled_bound`) cannot reach their targets: every settled edge is a
+move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.  The witness is then read forward as :func:`~supcoord.synthesis.witness` reads
 it on ``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
 shortest paths: it is the same string.
