@@ -45,8 +45,9 @@ reaches ``T`` is ``dist(T)``; the sweep of that ``f`` is finished, so every stat
 every shortest path is expanded.  "Not forcible" is proved when nothing is left to
 expand, or, before any BDD is built, by a group of positioners whose relaxation (their
 arms alone, :mod:`.settled_bound`) cannot reach their targets: every settled edge is a
-move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.  The witness is then read forward as :func:`~supcoord.synthesis.witness` reads
-it on ``V`` (the controller forces the event of least successor rank, ties by name; the
+move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.
+The witness is then read forward as :func:`~supcoord.synthesis.witness` reads it on
+``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
 shortest paths: it is the same string.
 

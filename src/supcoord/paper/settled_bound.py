@@ -175,8 +175,8 @@ class PatternBound:
         Every settled edge of the real model moves at most one arm, by a move of the
         relaxation of any group containing it (module docstring), so such a group proves
         the target unreachable from ``pos`` in the settled graph: no forcing string exists.
-        The relaxation keeps only the group's arms, so it proves nothing about a plan
-        that is blocked by the other arms; groups overlap freely here (no sum is taken)."""
+        A group that is not blocked proves nothing (the other arms may still block it);
+        groups overlap freely here, since no sum is taken."""
         _check_size(size, "certificate_size")
         for group, table in zip(self.groups, self.tables):
             if table[tuple(pos[i] for i in group)] == UNREACHABLE:
