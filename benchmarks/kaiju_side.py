@@ -11,7 +11,7 @@ and writes plain JSON that supcoord (or anything else) can read without kaiju::
     $PY benchmarks/kaiju_side.py plan --instance DIR/hex61_s0.json --planner greedy \
         --direction fold --out PATH.json
     $PY benchmarks/kaiju_side.py replay --instance DIR/hex61_s0.json --angles PLAN.json \
-        --out REPLAY.json [--buffer 1.92]
+        --out REPLAY.json [--buffer 1.92] [--steps]
 
 What kaiju does (file:line in sdss/kaiju 1.4.1, the installed version)
 ------------------------------------------------------------------------
@@ -583,12 +583,31 @@ def point_seg_dist(pt, s0, s1) -> np.ndarray:
     return np.sqrt((d * d).sum(-1))
 
 
+def trajectory_poses(trajs: list) -> np.ndarray:
+    """The poses ``(K, n, 2)`` of timed trajectories (PLAN.json ``trajectories``: per robot
+    ``{"alpha": [[t, deg], ...], "beta": [...]}``, linear in time between breakpoints, held
+    before the first and after the last) at the union of their breakpoint times: between two
+    consecutive times every joint turns linearly, so the poses between them are the straight
+    line the replay interpolates."""
+    times = np.unique(np.concatenate([np.asarray(r[j], float)[:, 0] for r in trajs for j in ("alpha", "beta")]))
+    out = np.empty((len(times), len(trajs), 2))
+    for i, r in enumerate(trajs):
+        for j, name in enumerate(("alpha", "beta")):
+            pts = np.asarray(r[name], float)
+            out[:, i, j] = np.interp(times, pts[:, 0], pts[:, 1])
+    return out
+
+
 def cmd_replay(args) -> None:
     inst = load_instance(args.instance)
     with open(args.angles) as f:
         plan = json.load(f)
-    configs = plan.get("angles_deg")
-    if not configs:
+    trajs = plan.get("trajectories")
+    if trajs and not args.steps:
+        configs, replayed = trajectory_poses(trajs), "trajectories"
+    else:
+        configs, replayed = plan.get("angles_deg"), "angles_deg"
+    if configs is None or not len(configs):
         _fail(f"{args.angles}: no angles_deg")
     configs = np.asarray(configs, dtype=float)
     rg, order = grid_for(inst, ang_step=args.ang_step or inst["ang_step_deg"])
@@ -694,6 +713,7 @@ def cmd_replay(args) -> None:
         "format": "supcoord-benchmark/kaiju-replay/1",
         "instance": os.path.abspath(args.instance), "angles": os.path.abspath(args.angles),
         "kaiju_version": inst["kaiju_version"],
+        "replayed": replayed,
         "configurations": len(configs),
         "ang_step_deg": step,
         "robot_collision_buffer_mm": float(buf[0]),
@@ -750,6 +770,8 @@ def main(argv=None) -> None:
     p.add_argument("--angles", required=True)
     p.add_argument("--buffer", type=float, default=None, help="robot collision buffer override (mm)")
     p.add_argument("--ang-step", type=float, default=None, help="interpolation step (default kaiju's)")
+    p.add_argument("--steps", action="store_true",
+                   help="replay angles_deg step by step even when the plan has timed trajectories")
     p.add_argument("--out", required=True)
     args = ap.parse_args(argv)
     _kaiju(args.wokcalib)

@@ -123,30 +123,46 @@ def test_robots_far_apart_keep_their_own_time():
     assert not r["valid"] and "motion_time_s" in r["problems"][0]
 
 
-def test_neighbours_moving_in_one_step_share_its_interval_and_wait_for_each_other():
-    data = {"layout": {"kind": "points", "xy": [[0, 0], [22, 0], [200, 0]]},
-            "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 5,
+def test_a_move_that_can_meet_a_neighbours_earlier_move_waits_for_it():
+    # robot 1 turns its arm away from robot 0 (step 0), then robot 0 reaches into the space it
+    # left (step 1): run at once, the two arms cross; robot 2, far away, moves at once
+    data = {"layout": {"kind": "points", "xy": [[0, 0], [30, 0], [200, 0]]},
+            "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 4, "beta_steps": 5,
                            "beta_range": [0, 180]},
-            "collision": {"buffer": 2.0}, "start": [[0, 0], [0, 0], [0, 0]], "target": [[2, 0], [0, 1], [2, 0]]}
+            "collision": {"buffer": 2.0}, "start": [[1, 0], [2, 0], [2, 0]], "target": [[0, 0], [1, 0], [1, 0]]}
     problem = parse_problem(data)
     assert [list(map(int, pq)) for pq in problem.pairs] == [[0, 1]]
-    confs = [np.array(c) for c in ([[0, 0], [0, 0], [0, 0]], [[1, 0], [0, 1], [1, 0]], [[2, 0], [0, 1], [2, 0]])]
+    confs = [np.array(c) for c in ([[1, 0], [2, 0], [2, 0]], [[1, 0], [1, 0], [2, 0]], [[0, 0], [1, 0], [1, 0]])]
+    assert validate_plan(problem, Plan("complete", confs, makespan=2))["valid"]
     v = 15.0
     trajs, total = plan_trajectories(problem, confs, v)
-    # step 0: robots 0 and 1 (neighbours) over [0, 3] (robot 1's 45°), robot 2 alone over [0, 2];
-    # step 1: robot 2 at once over [2, 4], robot 0 once its neighbour is done, over [3, 5]
-    assert total == pytest.approx(5.0)
-    assert np.allclose(trajs[0]["alpha"], [[0, 0], [3, 30], [5, 60]])
-    assert np.allclose(trajs[1]["beta"], [[0, 0], [3, 45], [5, 45]])
-    assert np.allclose(trajs[2]["alpha"], [[0, 0], [4, 60], [5, 60]])
-    # a robot waits for a neighbour that moves in an earlier step, even standing still beside it
-    confs = [np.array(c) for c in ([[0, 0], [0, 0], [0, 0]], [[0, 0], [0, 1], [1, 0]], [[1, 0], [0, 1], [2, 0]],
-                                   [[2, 0], [0, 1], [2, 0]])]
-    trajs, total = plan_trajectories(problem, confs, v)
-    assert np.allclose(trajs[1]["beta"], [[0, 0], [3, 45], [7, 45]])
-    assert np.allclose(trajs[0]["alpha"], [[0, 0], [3, 0], [7, 60]])  # from 3 s: robot 1 has arrived
-    assert np.allclose(trajs[2]["alpha"], [[0, 0], [4, 60], [7, 60]])
-    assert total == pytest.approx(7.0)
+    assert total == pytest.approx(12.0)
+    assert np.allclose(trajs[1]["alpha"], [[0, 180], [6, 90], [12, 90]])
+    assert np.allclose(trajs[0]["alpha"], [[0, 90], [6, 90], [12, 0]])  # waits for robot 1's move
+    assert np.allclose(trajs[2]["alpha"], [[0, 180], [6, 90], [12, 90]])  # does not wait for step 0
+    r = validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))
+    assert r["valid"], r["problems"]
+    # the wait is needed: robot 0 moving at once reaches robot 1's arm
+    eager = copy.deepcopy(trajs)
+    eager[0]["alpha"] = np.array([[0, 90.0], [6, 0.0], [12, 0.0]])
+    r = validate_plan(problem, Plan("complete", trajectories=eager, motion_time_s=total))
+    assert not r["valid"] and "positioners 0 and 1 collide" in r["problems"][0]
+
+
+def test_moves_whose_sweeps_stay_apart_do_not_wait_for_each_other():
+    # the same neighbours, robot 0 turning away from robot 1 (down, 90° -> 270° by 180°):
+    # its move is apart from robot 1's, so both start at once
+    data = {"layout": {"kind": "points", "xy": [[0, 0], [30, 0]]},
+            "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 4, "beta_steps": 5,
+                           "beta_range": [0, 180]},
+            "collision": {"buffer": 2.0}, "start": [[1, 0], [2, 0]], "target": [[2, 0], [1, 0]]}
+    problem = parse_problem(data)
+    confs = [np.array(c) for c in ([[1, 0], [2, 0]], [[1, 0], [1, 0]], [[2, 0], [1, 0]])]
+    assert validate_plan(problem, Plan("complete", confs, makespan=2))["valid"]
+    trajs, total = plan_trajectories(problem, confs, 15.0)
+    assert total == pytest.approx(6.0)
+    assert np.allclose(trajs[0]["alpha"], [[0, 90], [6, 180]])
+    assert np.allclose(trajs[1]["alpha"], [[0, 180], [6, 90]])
 
 
 def test_a_wrapping_joint_turns_the_short_way_in_the_trajectory():

@@ -44,12 +44,11 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import connected_components
 
 from ..errors import FormatError, InputError
 from ..geometry.layout import _finite_number, _short
 from .problem import Problem
+from .timing import plan_timing
 
 __all__ = ["SPEED_RANGE", "check_speed", "wrapped_angles", "continuous_angles", "plan_trajectories",
            "with_motion", "trajectories_csv", "joint_names", "parse_motion_fields", "motion_to_json"]
@@ -114,31 +113,20 @@ def continuous_angles(problem: Problem, configurations: Any) -> np.ndarray:
 
 
 def plan_trajectories(problem: Problem, configurations: Any, speed: float) -> tuple[list[dict], float]:
-    """``(trajectories, motion_time_s)`` of the configurations at joint speed ``speed`` (module
-    docstring: steps split into groups of neighbours, each group as early as its neighbourhood
-    allows); each trajectory maps a joint name to a ``(K, 2)`` array of ``[t_s, deg]``."""
+    """``(trajectories, motion_time_s)`` of the configurations at joint speed ``speed`` (the
+    timing of :mod:`.timing`: each move as early as the moves it depends on allow); each
+    trajectory maps a joint name to a ``(K, 2)`` array of ``[t_s, deg]``."""
     speed = check_speed(speed)
     angles = continuous_angles(problem, configurations)
-    n, names = problem.n, joint_names(problem)
-    own = np.abs(np.diff(angles, axis=0)).max(axis=2, initial=0.0) / speed  # (T, N): each robot's time
-    pairs = np.asarray(problem.pairs, dtype=np.int64).reshape(-1, 2)
-    adjacency = csr_matrix((np.ones(len(pairs), dtype=bool), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    near: list[list[int]] = [[] for _ in range(n)]
-    for a, b in pairs.tolist():
-        near[a].append(b)
-        near[b].append(a)
-    ready = np.zeros(n)  # when each robot's last group ends
-    moves: list[list[tuple[float, float, int]]] = [[] for _ in range(n)]  # (start, end, step)
-    for k in range(len(own)):
-        for group in _groups(np.nonzero(own[k] > 0)[0], adjacency):
-            start = max(float(ready[q]) for p in group for q in [p, *near[p]])
-            end = start + float(own[k, group].max())
-            for p in group:
-                ready[p] = end
-                moves[p].append((start, end, k))
-    total = float(ready.max(initial=0.0))
+    names = joint_names(problem)
+    timing = plan_timing(problem, configurations, speed, angles)
+    total = timing.motion_time_s
+    moves: list[list[tuple[float, float, int]]] = [[] for _ in range(problem.n)]  # (start, end, step)
+    for k, p, start, end in zip(timing.step.tolist(), timing.robot.tolist(), timing.start.tolist(),
+                                timing.end.tolist()):
+        moves[p].append((start, end, k))
     out = []
-    for p in range(n):
+    for p in range(problem.n):
         robot = {}
         for j, name in enumerate(names):
             points = [(0.0, float(angles[0, p, j]))]
@@ -151,15 +139,6 @@ def plan_trajectories(problem: Problem, configurations: Any, speed: float) -> tu
             robot[name] = _without_straight_points(np.array(points), speed)
         out.append(robot)
     return out, total
-
-
-def _groups(moving: np.ndarray, adjacency: Any) -> list[list[int]]:
-    """The connected groups of the ``moving`` robots, two robots joined when neighbours
-    (``adjacency``: the sparse matrix of the neighbour pairs)."""
-    if not len(moving):
-        return []
-    count, label = connected_components(adjacency[moving][:, moving], directed=False)
-    return [moving[label == c].tolist() for c in range(count)]
 
 
 def _without_straight_points(points: np.ndarray, speed: float) -> np.ndarray:
