@@ -1,8 +1,9 @@
 """PLAN.json angles and trajectories (the timing model), and the validator on joint angles.
 
-The timing model (``supcoord.problems.trajectory``): step ``k`` lasts ``max |Δθ| / speed``
-over every robot and joint, all joints of a step turn at constant velocity and start and
-end together; breakpoints where a joint's velocity does not change are dropped.
+The timing model (``supcoord.problems.timing``): a robot's move lasts ``max |Δθ| / speed``;
+it waits for a neighbour's move of an earlier step only where their swept sets can meet,
+and shares one interval with a neighbour's move of its own step only then; breakpoints
+where a joint's velocity does not change are dropped.
 """
 
 import contextlib
@@ -388,16 +389,22 @@ def test_a_beta_swing_through_a_neighbour_is_found_by_bisection():
     assert not r["valid"] and r["collisions"] == 1 and r["incidents"][0]["t"] == pytest.approx(0.5, abs=0.1), r
 
 
-@pytest.mark.timeout(180)
-def test_grouped_timing_of_tight_plans_passes_the_validator():
-    """The timing model's claim (module docstring of ``supcoord.problems.trajectory``): every
-    grouped motion is one the planner certified.  On tight random problems the trajectories
-    alone, checked as a motion by the validator, are collision-free, and never slower than
-    lockstep (each step as long as its slowest joint)."""
+@pytest.mark.timeout(240)
+def test_the_timing_of_tight_plans_passes_the_validator_and_needs_its_orders(monkeypatch):
+    """The timing's claim (``supcoord.problems.timing``): every motion it makes of a plan is
+    safe.  On tight random problems the trajectories alone, checked as a motion by the
+    validator, are collision-free; they take at least each robot's own time and at most
+    lockstep (each step as long as its slowest joint), synchronised moves share one interval.
+    With every pair of moves declared apart (no orders, no synchronisation) some of the same
+    plans collide: the orders are what makes them safe."""
     from supcoord import solve
+    from supcoord.problems import timing as timing_module
     from supcoord.problems.random import random_problem
+    from supcoord.problems.refine import at_lattice
+    from supcoord.problems.trajectory import continuous_angles
 
     ab = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7, "beta_range": [0, 180]}
+    plans, waited, synchronised = [], 0, 0
     for seed in range(8):
         problem = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, ab, 2.0, seed=seed)
         plan = solve(problem, improve=0, speed=10.0)
@@ -405,6 +412,26 @@ def test_grouped_timing_of_tight_plans_passes_the_validator():
         turn = np.abs(np.diff(np.array(plan.angles_deg), axis=0))
         turn[..., 0] = np.minimum(turn[..., 0], 360.0 - turn[..., 0])  # alpha wraps here
         lockstep = float(turn.max(axis=(1, 2)).sum()) / 10.0  # each step its slowest joint
+        own = float(turn.max(axis=2).sum(axis=0).max()) / 10.0  # the busiest robot alone
         r = validate_plan(problem, Plan("complete", trajectories=plan.trajectories, motion_time_s=plan.motion_time_s))
         assert r["valid"], (seed, r["problems"][:3])
-        assert plan.motion_time_s <= lockstep + 1e-9
+        assert own - 1e-9 <= plan.motion_time_s <= lockstep + 1e-9
+        if plan.lattice is not None:  # planned on a finer lattice: its configurations index that one
+            problem = at_lattice(problem, plan.lattice)
+        timing = timing_module.plan_timing(problem, plan.configurations, 10.0,
+                                           continuous_angles(problem, plan.configurations))
+        assert timing.motion_time_s == plan.motion_time_s
+        waited += timing.stats["ordered"]
+        synchronised += timing.stats["synchronised"]
+        plans.append((problem, plan))
+    assert waited > 0 and synchronised > 0
+
+    def all_apart(motions_a, length_a, motions_b, length_b, bsum, **_):
+        return np.ones(len(length_a), dtype=bool)
+
+    monkeypatch.setattr(timing_module, "sweeps_apart", all_apart)
+    collided = 0
+    for problem, plan in plans:
+        trajs, total = plan_trajectories(problem, plan.configurations, 10.0)
+        collided += not validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))["valid"]
+    assert collided > 0

@@ -53,7 +53,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--order", choices=["rcm", "hex"], help="variable order (default: rcm for local, hex for monolithic)")
     p.add_argument("--speed", type=float, metavar="DEG_PER_S",
                    help="joint speed in degrees per second (1e-3 to 1e5): the plan gets timed trajectories and "
-                        "motion_time_s (neighbours moving in one step start and end together; robots far apart do not wait)")
+                        "motion_time_s (each robot at its own pace; a neighbour waits only where their motions can meet)")
     p.add_argument("--trajectories-csv", metavar="FILE.csv",
                    help="write the trajectories as robot,joint,t_s,deg rows (needs --speed)")
     p.add_argument("--single-move-only", action="store_true",

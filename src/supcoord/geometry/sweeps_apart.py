@@ -14,12 +14,13 @@ robot holds before or after its motion, brings them together.  This is what lets
 **Certificate.**  Every point of ``S_a`` travels at most ``L_a`` (:meth:`Kinematics.sweep_length`)
 over the motion, so ``dist(S_a(s), S_b(t))`` is ``L_a``-Lipschitz in ``s`` and ``L_b``-Lipschitz
 in ``t``: over a cell ``[s0, s1] × [t0, t1]`` it is at least its value at the centre minus
-``(L_a·(s1 − s0) + L_b·(t1 − t0))/2``.  :func:`sweeps_apart` first bounds every pair at
-once from the two middle poses (the whole square as one cell, on arrays), then splits the
-cells of the pairs left open along their longer side until a centre is closer than ``bsum``
-(not apart: a proven meeting), every cell clears ``bsum`` (apart), or a cell's bound is
-within ``tol`` of deciding or a pair needs more than ``max_cells`` cells (counted as *not
-apart*: the answer errs only towards keeping the plan's order).
+``(L_a·(s1 − s0) + L_b·(t1 − t0))/2``.  :func:`sweeps_apart` starts every pair from the
+whole square (its centre: the two middle poses) and splits, breadth-first and for all
+pairs at once on arrays, each open cell across the side along which its bound is larger,
+until a centre is closer than ``bsum`` (not apart: a proven meeting), every cell clears
+``bsum`` (apart), or a cell's bound is within ``tol`` of deciding or a pair has needed
+more than ``max_cells`` cells (counted as *not apart*: the answer errs only towards keeping
+the plan's order).
 
 References
 ----------

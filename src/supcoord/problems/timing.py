@@ -66,8 +66,9 @@ class Timing:
 
     ``step``, ``robot``: each move's step and robot (moves sorted by step, then robot);
     ``start``, ``end``: its interval (seconds); ``motion_time_s``: the last end (0 without
-    moves); ``stats``: ``moves``, ``pairs`` (move pairs of neighbours examined), ``apart``,
-    ``ordered``, ``synchronised``, ``lockstep_s`` (the plan run step after step)."""
+    moves); ``stats`` (PLAN.json ``stats.timing``): ``moves``, ``pairs`` (pairs of moves of
+    neighbours examined), ``apart``, ``ordered``, ``synchronised`` (pairs of moves),
+    ``lockstep_s`` (the plan run step after step)."""
 
     step: np.ndarray
     robot: np.ndarray

@@ -4,29 +4,20 @@
 (:meth:`Problem.angles_deg`: each robot's own lattice), a wrapping joint (rotary ``θ``, an
 alpha joint without hard stops) reported in ``[0, 360)``.
 
-**Timing model** (``trajectories``, for a joint speed ``v`` in degrees per second):
+**Timing model** (``trajectories``, for a joint speed ``v`` in degrees per second;
+:mod:`.timing` says it in full and why it is safe):
 
 - a robot's time for step ``k`` (``c_k → c_{k+1}``) is ``τ_{k,p} = max_j |Δθ_{k,p,j}| / v``
   (``Δθ`` the angle the joint turns, the short way round where it wraps, exactly the step
-  the planner and the validator check);
-- the robots that move in step ``k`` fall into *groups*: connected through neighbour pairs
-  (:attr:`Problem.pairs`, the pairs that can collide).  A group moves over one interval
-  ``[s, s + max_{p ∈ group} τ_{k,p}]``, every joint of its robots turning at the constant
-  angular velocity ``Δθ / (interval length)``: neighbours moving in the same step start
-  and end together, the linear interpolation the planner checked for them;
-- groups start as early as possible, step by step: ``s`` = the latest end of the groups of
-  earlier steps that hold one of its robots or a neighbour of one;
-  ``motion_time_s`` = the last end.
-
-  So for any two neighbours the intervals of their groups are the same (one group) or
-  disjoint and in step order: each pair of neighbours passes through the poses of the
-  configurations in the plan's order, a robot moving past a neighbour that stands where the
-  plan has it, so every motion is one the planner certified (only faster where far-apart
-  robots need not wait for each other).  Executing the configurations in lockstep, each step
-  lasting its slowest joint, takes ``Σ_k max_p τ_{k,p}``; the groups are never slower, but on
-  a wok where every robot has neighbours the chains of waiting keep most of it (kaiju's APO
-  instances at 12°/s, seeds 0, 2, 5 fold and 7 unfold: 68.9 → 68.6, 61.6 → 61.6,
-  98.4 → 89.0, 67.1 → 62.0 s);
+  the planner and the validator check), every joint turning at constant angular velocity;
+- a move waits for a neighbour's move of an earlier step only when their swept sets can
+  come closer than the buffers allow (certified, :mod:`supcoord.geometry.sweeps_apart`),
+  and shares one interval with a neighbour's move of its own step (as long as the slower
+  needs: the simultaneous motion the planner certified) only then; otherwise every robot
+  goes on at its own pace; ``motion_time_s`` = the last end.  Executing the configurations
+  in lockstep, each step lasting its slowest joint, takes ``Σ_k max_p τ_{k,p}``; this timing
+  is never slower (kaiju's LCO instance seed 0 at 12°/s on the 13 × 7 lattice: 50.1 s in
+  lockstep, 39.8 s; ``benchmarks/results/vs_kaiju_lco.md``);
 - each joint's trajectory is the list of its breakpoints ``[t_s, deg]``: the start (``t = 0``),
   the end (``t = motion_time_s``), and every time its velocity changes (a breakpoint
   between two pieces of equal velocity, to 1e-12 of ``v``, is dropped); between breakpoints
@@ -112,14 +103,18 @@ def continuous_angles(problem: Problem, configurations: Any) -> np.ndarray:
     return out
 
 
-def plan_trajectories(problem: Problem, configurations: Any, speed: float) -> tuple[list[dict], float]:
+def plan_trajectories(problem: Problem, configurations: Any, speed: float,
+                      stats: dict | None = None) -> tuple[list[dict], float]:
     """``(trajectories, motion_time_s)`` of the configurations at joint speed ``speed`` (the
     timing of :mod:`.timing`: each move as early as the moves it depends on allow); each
-    trajectory maps a joint name to a ``(K, 2)`` array of ``[t_s, deg]``."""
+    trajectory maps a joint name to a ``(K, 2)`` array of ``[t_s, deg]``.  ``stats`` (a dict)
+    receives the timing's counts (:class:`.timing.Timing`)."""
     speed = check_speed(speed)
     angles = continuous_angles(problem, configurations)
     names = joint_names(problem)
     timing = plan_timing(problem, configurations, speed, angles)
+    if stats is not None:
+        stats.update(timing.stats)
     total = timing.motion_time_s
     moves: list[list[tuple[float, float, int]]] = [[] for _ in range(problem.n)]  # (start, end, step)
     for k, p, start, end in zip(timing.step.tolist(), timing.robot.tolist(), timing.start.tolist(),
@@ -158,7 +153,8 @@ def with_motion(plan: Any, problem: Problem, speed: float | None = None) -> Any:
         return plan
     plan.angles_deg = wrapped_angles(problem, plan.configurations)
     if speed is not None:
-        plan.trajectories, plan.motion_time_s = plan_trajectories(problem, plan.configurations, speed)
+        plan.trajectories, plan.motion_time_s = plan_trajectories(problem, plan.configurations, speed,
+                                                                  plan.stats.setdefault("timing", {}))
     return plan
 
 
