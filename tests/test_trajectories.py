@@ -421,6 +421,11 @@ def test_the_timing_of_tight_plans_passes_the_validator_and_needs_its_orders(mon
         timing = timing_module.plan_timing(problem, plan.configurations, 10.0,
                                            continuous_angles(problem, plan.configurations))
         assert timing.motion_time_s == plan.motion_time_s
+        with monkeypatch.context() as m:  # decided in many blocks: the same timing
+            m.setattr(timing_module, "BLOCK", 97)
+            blocks = timing_module.plan_timing(problem, plan.configurations, 10.0,
+                                               continuous_angles(problem, plan.configurations))
+        assert np.array_equal(blocks.start, timing.start) and blocks.stats == timing.stats
         waited += timing.stats["ordered"]
         synchronised += timing.stats["synchronised"]
         plans.append((problem, plan))

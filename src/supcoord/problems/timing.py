@@ -59,6 +59,9 @@ from .problem import Problem
 
 __all__ = ["Timing", "plan_timing"]
 
+#: pairs of moves decided per call of :func:`sweeps_apart` (about 40 MB of rows)
+BLOCK = 1 << 17
+
 
 @dataclass
 class Timing:
@@ -92,8 +95,11 @@ def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarr
                                                                           synchronised=0))
     motions, lengths = _motions(problem, confs, step, robot)
     u, v = _neighbour_move_pairs(problem, robot)
-    bsum = problem.buffers[robot[u]] + problem.buffers[robot[v]]
-    apart = sweeps_apart(motions[u], lengths[u], motions[v], lengths[v], bsum)
+    apart = np.zeros(len(u), dtype=bool)
+    for lo in range(0, len(u), BLOCK):  # blocks bound the memory of the gathered rows
+        a, b = u[lo:lo + BLOCK], v[lo:lo + BLOCK]
+        apart[lo:lo + BLOCK] = sweeps_apart(motions[a], lengths[a], motions[b], lengths[b],
+                                            problem.buffers[robot[a]] + problem.buffers[robot[b]])
     u, v = u[~apart], v[~apart]
     same = step[u] == step[v]
     early = np.where(step[u] < step[v], u, v)[~same]
