@@ -6,9 +6,10 @@ copy of ``src/``, then runs the test files that guard that code against the copy
 when some test fails; the table records which one and how long it took.
 
     python benchmarks/mutations.py                  # every mutation, writes results/mutations.md
-    python benchmarks/mutations.py --only sweep     # the mutations whose id contains 'sweep'
+    python benchmarks/mutations.py --only sweep     # the mutations whose id contains 'sweep' (or of area 'sweep')
     python benchmarks/mutations.py --list           # what would run
     python benchmarks/mutations.py --head           # mutate the committed source, not the working tree
+    python benchmarks/mutations.py --only timing --out /tmp/m.md   # write the table elsewhere
 
 Results: ``benchmarks/results/mutations.md`` (command, date, machine, load, code version);
 docs/testing.md quotes the table.
@@ -111,6 +112,20 @@ MUTATIONS = [
              "        if False:",
              ("tests/test_planner_oracle.py", "tests/test_planner.py"),
              "the descent moves neighbours together without checking every order"),
+    Mutation("timing-no-orders", "timing", "problems/timing.py",
+             "    src = np.concatenate([early, precedes])\n    dst = np.concatenate([late, follows])",
+             "    src, dst = precedes, follows",
+             ("tests/test_trajectories.py",),
+             "a move does not wait for a neighbour's earlier move whose sweep can meet its own"),
+    Mutation("timing-no-synchronisation", "timing", "problems/timing.py",
+             "        start[m] = g_start[group[m]]\n        end[m] = start[m] + g_length[group[m]]",
+             "        start[m] = ready[m]\n        end[m] = start[m] + duration[m]",
+             ("tests/test_trajectories.py",),
+             "neighbours' moves of one step that can meet go at their own pace, not over one interval"),
+    Mutation("sweeps-apart-half-slack", "timing", "geometry/sweeps_apart.py",
+             "        slack = (la[pair] * ws + lb[pair] * wt) / 2",
+             "        slack = (la[pair] * ws + lb[pair] * wt) / 4",
+             ("tests/test_sweeps_apart.py",), "the Lipschitz bound of two motions at independent times is halved"),
 ]
 
 
@@ -144,14 +159,15 @@ def run(m: Mutation, timeout: float) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", help="run the mutations whose id contains this text")
+    ap.add_argument("--only", help="run the mutations whose id contains this text, or of this area")
     ap.add_argument("--list", action="store_true", help="list the mutations and stop")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per mutation (default 900)")
     ap.add_argument("--head", action="store_true", help="mutate the committed source (git HEAD), not the working tree")
+    ap.add_argument("--out", type=Path, default=RESULTS, help=f"the results table (default {RESULTS.relative_to(ROOT)})")
     args = ap.parse_args()
     global HEAD_ONLY
     HEAD_ONLY = args.head
-    chosen = [m for m in MUTATIONS if not args.only or args.only in m.id]
+    chosen = [m for m in MUTATIONS if not args.only or args.only in m.id or args.only == m.area]
     if args.list:
         for m in chosen:
             print(f"{m.id:36} {m.area:22} {m.path}: {m.what}")
@@ -164,7 +180,8 @@ def main() -> int:
     caught = sum(r["status"].startswith("caught") for _, r in rows)
     lines = ["# Mutation testing", "",
              f"Command: `python benchmarks/mutations.py{' --head' if args.head else ''}"
-             f"{' --only ' + args.only if args.only else ''}`  ",
+             f"{' --only ' + args.only if args.only else ''}"
+             f"{' --out ' + str(args.out) if args.out != RESULTS else ''}`  ",
              f"Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  ",
              f"Machine: {platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs), "
              f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}  ",
@@ -174,11 +191,12 @@ def main() -> int:
     for m, r in rows:
         by = f"`{r['test']}`" if r["status"] == "caught" and r["test"] else r["status"]
         lines.append(f"| `{m.id}` ({m.path}) | {m.area} | {m.what} | {by} | {r['seconds']:.0f} |")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    tmp = RESULTS.with_suffix(".md.tmp")
+    out = args.out.resolve()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(".md.tmp")
     tmp.write_text("\n".join(lines) + "\n")
-    os.replace(tmp, RESULTS)
-    print(f"{caught}/{len(rows)} caught; wrote {RESULTS.relative_to(ROOT)}")
+    os.replace(tmp, out)
+    print(f"{caught}/{len(rows)} caught; wrote {out}")
     return 0 if caught == len(rows) else 1
 
 
