@@ -18,7 +18,8 @@ targets -> folded lattice (10, 170) deg; ``unfold``: lattice -> targets):
   --json -q --timeout T --max-memory 8G`` runs as a child process (CPU = user + system time
   from ``resource.getrusage(RUSAGE_CHILDREN)`` deltas; peak RSS = the child's ``ru_maxrss``
   from ``os.wait4``), then ``supcoord check PROBLEM PLAN --json`` and kaiju's own collision
-  check (``kaiju_side.py replay --buffer 2.0 --ang-step 0.1``) on the plan's angles.
+  check (``kaiju_side.py replay --buffer 2.0 --ang-step 0.1``) along the plan's timed
+  trajectories (what the robots do: each at its own pace), every 0.1° of the fastest joint.
 * kaiju: ``kaiju_side.py plan --planner greedy|mdp --direction fold|unfold`` (a result file
   ``{grid}_s{seed}_{planner}_{direction}.json`` in ``--reuse`` is used instead when present;
   kaiju's unfold is by construction its fold path reversed in time, planned by the same call,
