@@ -113,23 +113,33 @@ def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarr
     precedes = by_robot[:-1][robot[by_robot[1:]] == robot[by_robot[:-1]]]
     src = np.concatenate([early, precedes])
     dst = np.concatenate([late, follows])
+    start, end = _earliest(step, duration, group, n_groups, src, dst)
+    return Timing(step, robot, start, end, float(end.max()), stats)
+
+
+def _earliest(step: np.ndarray, duration: np.ndarray, group: np.ndarray, n_groups: int, src: np.ndarray,
+              dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each move's ``(start, end)``: step by step, a group starts at the latest end of its
+    moves' predecessors (``src[i]`` before ``dst[i]``, always of an earlier step) and lasts
+    its longest move."""
     order = np.argsort(step[dst], kind="stable")
     src, dst = src[order], dst[order]
-    bounds = np.searchsorted(step[dst], np.arange(int(step[-1]) + 2))
+    last = int(step[-1])
+    bounds = np.searchsorted(step[dst], np.arange(last + 2))
+    move_bounds = np.searchsorted(step, np.arange(last + 2))
     g_length = np.zeros(n_groups)
     np.maximum.at(g_length, group, duration)
-    start, end = np.zeros(n_moves), np.zeros(n_moves)
-    ready = np.zeros(n_moves)  # the latest end among each move's predecessors
-    move_bounds = np.searchsorted(step, np.arange(int(step[-1]) + 2))
     g_start = np.zeros(n_groups)
-    for k in range(int(step[-1]) + 1):
+    ready = np.zeros(len(step))  # the latest end among each move's predecessors
+    start, end = np.zeros(len(step)), np.zeros(len(step))
+    for k in range(last + 1):
         lo, hi = bounds[k], bounds[k + 1]
         np.maximum.at(ready, dst[lo:hi], end[src[lo:hi]])
         m = np.arange(move_bounds[k], move_bounds[k + 1])
         np.maximum.at(g_start, group[m], ready[m])
         start[m] = g_start[group[m]]
         end[m] = start[m] + g_length[group[m]]
-    return Timing(step, robot, start, end, float(end.max()), stats)
+    return start, end
 
 
 def _motions(problem: Problem, confs: np.ndarray, step: np.ndarray, robot: np.ndarray
