@@ -223,13 +223,15 @@ def test_an_interrupted_run_loses_nothing_and_the_next_resumes(tmp_path, sig):
     proc = subprocess.Popen([sys.executable, "-m", "supcoord.cli", "study", "run", str(path), "--workers", "0"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 60
-    done = 0
-    while time.time() < deadline and done < 1:
+    done, children = 0, []
+    # catch the run while a case is under way (on a loaded machine, polled between two cases,
+    # the run may hold no child for a moment)
+    while time.time() < deadline and not (done >= 1 and children):
         time.sleep(0.1)
         if db.exists():
             with contextlib.closing(sqlite3.connect(db)) as con, contextlib.suppress(sqlite3.OperationalError):
                 done = con.execute("SELECT count(*) FROM cases").fetchone()[0]
-    children = _children(proc.pid)
+        children = _children(proc.pid)
     assert done >= 1 and children, "the run did not get going"
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=30)
