@@ -93,8 +93,11 @@ def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarr
     if not n_moves:
         return Timing(step, robot, np.zeros(0), np.zeros(0), 0.0, dict(stats, pairs=0, apart=0, ordered=0,
                                                                           synchronised=0))
-    motions, lengths = _motions(problem, confs, step, robot)
-    u, v = _neighbour_move_pairs(problem, robot)
+    # each robot's moves, in step order (np.nonzero sorts by step, the stable sort keeps it)
+    by_robot = np.argsort(robot, kind="stable")
+    moves_of = np.split(by_robot, np.searchsorted(robot[by_robot], np.arange(1, problem.n)))
+    motions, lengths = _motions(problem, confs, step, moves_of)
+    u, v = _neighbour_move_pairs(problem, moves_of)
     apart = np.zeros(len(u), dtype=bool)
     for lo in range(0, len(u), BLOCK):  # blocks bound the memory of the gathered rows
         a, b = u[lo:lo + BLOCK], v[lo:lo + BLOCK]
@@ -108,7 +111,6 @@ def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarr
     n_groups, group = connected_components(
         coo_matrix((np.ones(int(same.sum())), (u[same], v[same])), shape=(n_moves, n_moves)), directed=False)
     # each robot's previous move comes first too
-    by_robot = np.lexsort((step, robot))
     follows = by_robot[1:][robot[by_robot[1:]] == robot[by_robot[:-1]]]
     precedes = by_robot[:-1][robot[by_robot[1:]] == robot[by_robot[:-1]]]
     src = np.concatenate([early, precedes])
@@ -142,7 +144,7 @@ def _earliest(step: np.ndarray, duration: np.ndarray, group: np.ndarray, n_group
     return start, end
 
 
-def _motions(problem: Problem, confs: np.ndarray, step: np.ndarray, robot: np.ndarray
+def _motions(problem: Problem, confs: np.ndarray, step: np.ndarray, moves_of: list[np.ndarray]
              ) -> tuple[np.ndarray, np.ndarray]:
     """Each move as a motion row (:data:`~supcoord.geometry.sweeps_apart.MOTION_FIELDS`) and its
     travel bound (:meth:`Kinematics.sweep_length`)."""
@@ -150,10 +152,7 @@ def _motions(problem: Problem, confs: np.ndarray, step: np.ndarray, robot: np.nd
     deltas = np.stack([kin.signed_delta(confs[k], confs[k + 1]) for k in range(len(confs) - 1)])
     rows = np.empty((len(step), 11))
     lengths = np.empty(len(step))
-    order = np.argsort(robot, kind="stable")
-    cuts = np.searchsorted(robot[order], np.arange(problem.n + 1))
-    for p in range(problem.n):
-        m = order[cuts[p]:cuts[p + 1]]
+    for p, m in enumerate(moves_of):
         if not len(m):
             continue
         kp = problem.kin(p)
@@ -167,14 +166,12 @@ def _motions(problem: Problem, confs: np.ndarray, step: np.ndarray, robot: np.nd
     return rows, lengths
 
 
-def _neighbour_move_pairs(problem: Problem, robot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every pair ``(u, v)`` of moves of two neighbours (``robot[u]``, ``robot[v]`` a pair of
-    :attr:`Problem.pairs`)."""
-    order = np.argsort(robot, kind="stable")
-    cuts = np.searchsorted(robot[order], np.arange(problem.n + 1))
+def _neighbour_move_pairs(problem: Problem, moves_of: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``(u, v)`` of moves of two neighbours (a pair of :attr:`Problem.pairs`);
+    ``moves_of[p]``: robot ``p``'s moves."""
     us, vs = [], []
     for a, b in np.asarray(problem.pairs, dtype=np.int64).reshape(-1, 2).tolist():
-        ma, mb = order[cuts[a]:cuts[a + 1]], order[cuts[b]:cuts[b + 1]]
+        ma, mb = moves_of[a], moves_of[b]
         if len(ma) and len(mb):
             us.append(np.repeat(ma, len(mb)))
             vs.append(np.tile(mb, len(ma)))
