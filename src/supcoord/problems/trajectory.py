@@ -16,8 +16,9 @@ alpha joint without hard stops) reported in ``[0, 360)``.
   needs: the simultaneous motion the planner certified) only then; otherwise every robot
   goes on at its own pace; ``motion_time_s`` = the last end.  Executing the configurations
   in lockstep, each step lasting its slowest joint, takes ``Σ_k max_p τ_{k,p}``; this timing
-  is never slower (kaiju's LCO instance seed 0 at 12°/s on the 13 × 7 lattice: 50.1 s in
-  lockstep, 39.8 s; ``benchmarks/results/vs_kaiju_lco.md``);
+  is never slower (kaiju's LCO instance seed 0 at 12°/s on the 13 × 7 lattice: 39.8 s,
+  where neighbours moving in one step over one common interval took 49.9 s;
+  ``benchmarks/results/vs_kaiju_lco.md`` and its previous version);
 - each joint's trajectory is the list of its breakpoints ``[t_s, deg]``: the start (``t = 0``),
   the end (``t = motion_time_s``), and every time its velocity changes (a breakpoint
   between two pieces of equal velocity, to 1e-12 of ``v``, is dropped); between breakpoints
