@@ -29,7 +29,8 @@ ALLOWED: dict[str, set[str]] = {
     "planning": {"problems", "geometry", "synthesis", "des", "bdd", "errors", "progress"},
     "figures": {"problems", "geometry", "errors", "outputs"},
     "testing": {"planning", "problems", "geometry", "bdd", "errors"},
-    "study": {"paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd", "errors", "progress"},
+    "study": {"paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd", "errors", "progress",
+              "outputs"},
     # the command line reads __version__ from the top level
     "cli": {"__init__", "paper", "planning", "problems", "geometry", "figures", "synthesis", "des", "bdd",
             "errors", "progress", "study", "outputs"},

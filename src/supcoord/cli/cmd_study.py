@@ -141,7 +141,7 @@ def _show(args, console, study, database) -> CommandResult:
         version = args.code_version or code_version()
         found = {}
         if database.is_file():
-            with ResultStore(database) as store:
+            with ResultStore(database, create=False) as store:
                 found = records(study, store, version, args.any_version)
         done = sum(is_done(found.get(c.params_key), c) for c in study.cases)
         skipped = sum((found.get(c.params_key) or ("",))[0] == "skipped" for c in study.cases)
@@ -158,21 +158,38 @@ def _show(args, console, study, database) -> CommandResult:
 def _export(args, console, study, database) -> CommandResult:
     from ..study.results import export_results
 
+    from ..errors import InputError
+    from ..outputs import check_output
+
     fmt = args.format or (Path(args.out).suffix.lstrip(".").lower() if args.out else "csv") or "csv"
     out = Path(args.out) if args.out else database.with_suffix(f".{fmt}")
-    n = export_results(_existing(database), out, fmt, study=study)
+    check_output(out, [database, args.study], "--out")  # never over the database or the study file
+    try:
+        n = export_results(_existing(database), out, fmt, study=study)
+    except InputError as exc:  # the library names its parameter 'out'; here it is --out
+        if exc.message.startswith("out: "):
+            raise InputError("--out: " + exc.message[5:], value=exc.value, where=exc.where) from None
+        raise
     return CommandResult({"status": "ok", "rows": n, "format": fmt, "out": str(out)}, f"{n} rows written to {out}")
 
 
 def _plot(args, console, study, database) -> CommandResult:
     import matplotlib
 
+    from ..errors import InputError
+
     matplotlib.use("Agg")
     from ..study.plots import study_figures
     from ..study.results import results_rows
 
+    from ..study.plots import check_output_dir
+
     out = Path(args.out) if args.out else database.with_name(database.stem + "-figures")
-    paths = study_figures(results_rows(_existing(database), study=study), out)
+    try:
+        check_output_dir(out)
+    except InputError as exc:
+        raise InputError(exc.message, value=exc.value, where="--out") from None
+    paths = study_figures(results_rows(_existing(database), study=study), out, inputs=[database, args.study])
     return CommandResult({"status": "ok", "figures": [str(p) for p in paths]},
                          "figures written: " + ", ".join(str(p) for p in paths))
 

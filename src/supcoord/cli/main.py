@@ -103,6 +103,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     console = Console.from_args(args)
+    if hasattr(signal, "SIGXFSZ") and threading.current_thread() is threading.main_thread():
+        # past a file-size limit (ulimit -f) a write fails with EFBIG, reported in one line, instead of
+        # the signal killing the process halfway through a database write
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     restore = _interrupt_once()
     try:
         with _watchdog(args, console):

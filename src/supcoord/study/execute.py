@@ -190,7 +190,7 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
     if workers < 0:
         raise InputError(f"must be >= 0, got {workers}", value=workers, where="--workers")
     path = study.database_path(database)
-    with ResultStore(path) as store:
+    with ResultStore(path, inputs=[study.path]) as store:
         unknown = sorted(set(retry) - set(FAILED))
         if unknown:
             raise InputError(f"can only retry failed statuses ({', '.join(FAILED)}), got {unknown[0]!r}",

@@ -23,10 +23,14 @@ figures of a database to a folder.
 
 from __future__ import annotations
 
+import os
 import statistics
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError
+from ..outputs import atomic_output, check_output
 from .fit import fit_growth
 
 __all__ = ["METRICS", "figure_metric", "figure_quality", "figure_verdicts", "group_of", "study_figures", "x_of"]
@@ -242,19 +246,45 @@ def figure_quality(rows: list[dict[str, Any]]):
     return fig
 
 
-def study_figures(rows: list[dict[str, Any]], out_dir: str | Path, fmt: str = "png", dpi: int = 110) -> list[Path]:
+def study_figures(rows: list[dict[str, Any]], out_dir: str | Path, fmt: str = "png", dpi: int = 110,
+                  inputs: Iterable[str | Path | None] = ()) -> list[Path]:
     """Write ``time``, ``memory``, ``nodes``, ``verdicts`` and ``quality`` figures of
-    ``rows`` (:func:`~supcoord.study.results.results_rows`) to ``out_dir``; their paths."""
+    ``rows`` (:func:`~supcoord.study.results.results_rows`) to ``out_dir``; their paths.
+
+    Each figure is written atomically and never over one of ``inputs`` (the database, the
+    study file) nor through a link (:func:`supcoord.outputs.atomic_output`)."""
     import matplotlib.pyplot as plt
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    figures = [(METRICS[m][0], figure_metric(rows, m)) for m in METRICS]
-    figures += [("verdicts", figure_verdicts(rows)), ("quality", figure_quality(rows))]
+    out = check_output_dir(out_dir)
+    inputs = list(inputs)
+    names = [METRICS[m][0] for m in METRICS] + ["verdicts", "quality"]
+    for name in names:  # every file checked before any is drawn
+        check_output(out / f"{name}.{fmt}", inputs, "out")
+    figures = [(METRICS[m][0], lambda m=m: figure_metric(rows, m)) for m in METRICS]
+    figures += [("verdicts", lambda: figure_verdicts(rows)), ("quality", lambda: figure_quality(rows))]
     paths = []
-    for name, fig in figures:
+    for name, draw in figures:
         path = out / f"{name}.{fmt}"
-        fig.savefig(path, dpi=dpi)
-        plt.close(fig)
+        fig = draw()
+        try:
+            with atomic_output(path, inputs=inputs, what="out") as tmp:
+                fig.savefig(tmp, dpi=dpi, format=fmt)
+        finally:
+            plt.close(fig)
         paths.append(path)
     return paths
+
+
+def check_output_dir(out_dir: str | Path) -> Path:
+    """``out_dir`` created if missing; an :class:`InputError` if it is a link or not a directory."""
+    if not isinstance(out_dir, (str, os.PathLike)) or not os.fspath(out_dir):
+        raise InputError(f"must be a folder name, got {out_dir!r:.80}", value=out_dir, where="out")
+    out = Path(out_dir)
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise InputError(f"{str(out)!r} is not a folder (a file or a link)", value=str(out), where="out")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the folder {str(out)!r}: {exc.strerror or exc}", value=str(out),
+                         where="out") from None
+    return out

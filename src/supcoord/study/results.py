@@ -14,10 +14,12 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..outputs import atomic_output, check_output
 from .store import COLUMNS, ResultStore
 
 __all__ = ["FORMATS", "export_results", "results_frame", "results_rows"]
@@ -76,29 +78,36 @@ def _flat(v: Any) -> Any:
 def export_results(database: str | Path, out: str | Path, fmt: str | None = None, *, study: Any = None,
                    versions: str = "latest") -> int:
     """Write the rows to ``out`` as ``csv`` or ``parquet`` (default: from the suffix);
-    returns the number of rows.  Parquet needs ``pyarrow`` (``pip install pyarrow``)."""
+    returns the number of rows.  Parquet needs ``pyarrow`` (``pip install pyarrow``).
+
+    ``out`` is written atomically and never over ``database`` or the study's file, nor
+    through a link (:func:`supcoord.outputs.atomic_output`)."""
+    if not isinstance(out, (str, os.PathLike)):
+        raise InputError(f"must be a file name, got {out!r:.80}", value=out, where="out")
     out = Path(out)
     fmt = fmt or out.suffix.lstrip(".").lower()
     if fmt not in FORMATS:
-        raise InputError(f"must be one of {', '.join(FORMATS)}", value=fmt, where="--format")
-    if not out.resolve().parent.is_dir():
-        raise InputError(f"directory {str(out.parent)!r} does not exist", value=str(out), where="--out")
+        raise InputError(f"must be one of {', '.join(FORMATS)}", value=fmt, where="format")
+    inputs = [database, *([study.path] if getattr(study, "path", None) else [])]
+    check_output(out, inputs, "out")  # never over the database (also through a link), before reading it
+    if fmt == "parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise InputError("Parquet export needs pyarrow: pip install pyarrow (or export --format csv)",
+                             value="parquet", where="format") from None
     rows = results_rows(database, study=study, versions=versions)
     columns = list(COLUMNS) + sorted({k for r in rows for k in r} - set(COLUMNS))
-    if fmt == "csv":
-        with open(out, "w", newline="", encoding="utf-8") as f:
-            w = csv.DictWriter(f, fieldnames=columns)
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: _flat(r.get(k)) for k in columns})
-        return len(rows)
-    try:
-        import pyarrow  # noqa: F401
-    except ImportError:
-        raise InputError("Parquet export needs pyarrow: pip install pyarrow (or export --format csv)",
-                         value="parquet", where="--format") from None
-    import pandas as pd
+    with atomic_output(out, inputs=inputs, what="out") as tmp:
+        if fmt == "csv":
+            with open(tmp, "w", newline="", encoding="utf-8") as f:
+                w = csv.DictWriter(f, fieldnames=columns)
+                w.writeheader()
+                for r in rows:
+                    w.writerow({k: _flat(r.get(k)) for k in columns})
+        else:
+            import pandas as pd
 
-    frame = pd.DataFrame([{k: _flat(r.get(k)) for k in columns} for r in rows], columns=columns)
-    frame.to_parquet(out, index=False)
+            frame = pd.DataFrame([{k: _flat(r.get(k)) for k in columns} for r in rows], columns=columns)
+            frame.to_parquet(tmp, index=False)
     return len(rows)

@@ -18,20 +18,32 @@ Tables:
   replaces its row;
 - ``runs``: one row per ``run`` of a study: when, where, how many workers, how many cases
   it ran and how it ended (finished or interrupted), with its wall-clock seconds.
+
+The file carries :data:`APPLICATION_ID` (``PRAGMA application_id``).  Opening refuses,
+before changing anything, a SQLite file of another application (one-line
+:class:`~supcoord.errors.InputError`) and a corrupt one (``PRAGMA quick_check``); a
+database written before the id existed is recognised by its tables and gains the id when
+it is next written.  Readers open the file read-only.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import sqlite3
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..outputs import check_output
 
-__all__ = ["COLUMNS", "RUN_COLUMNS", "ResultStore"]
+__all__ = ["APPLICATION_ID", "COLUMNS", "RUN_COLUMNS", "ResultStore"]
+
+#: SQLite's ``PRAGMA application_id`` of a supcoord results database ("supc" in ASCII)
+APPLICATION_ID = 0x73757063
 
 #: column -> SQL type of the ``cases`` table (docs/study.md explains each)
 COLUMNS: dict[str, str] = {
@@ -61,18 +73,65 @@ class ResultStore:
     (1.5, {'rank': 3})
     """
 
-    def __init__(self, path: str | Path, *, create: bool = True):
+    def __init__(self, path: str | Path, *, create: bool = True, inputs: Iterable[str | Path | None] = ()):
+        if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
+            raise InputError(f"must be a file name, got {path!r:.80}", value=path, where="database")
         self.path = Path(path)
+        where = str(path)
         if not create and not self.path.is_file():
-            raise InputError("no results database here yet (run the study first)", value=str(path), where=str(path))
-        if self.path.parent and not self.path.parent.is_dir():
-            raise InputError(f"directory {str(self.path.parent)!r} does not exist", value=str(path), where=str(path))
+            raise InputError("no results database here yet (run the study first)", value=where, where=where)
+        if create:  # written in place: never an input, a link, a directory or a FIFO
+            check_output(self.path, inputs, "results database")
         try:
-            self.con = sqlite3.connect(str(self.path), isolation_level=None, timeout=30)
-            self.con.execute("PRAGMA synchronous=FULL")
-            self._create()
+            if create:
+                self.con = sqlite3.connect(str(self.path), isolation_level=None, timeout=30)
+            else:  # read only: show/export/plot change nothing
+                self.con = sqlite3.connect(self.path.absolute().as_uri() + "?mode=ro", uri=True,
+                                           isolation_level=None, timeout=30)
+        except sqlite3.Error as exc:
+            raise InputError(f"cannot open the results database ({exc})", value=where, where=where) from None
+        try:
+            self.empty = fresh = self._identify(where)
+            if create:
+                self.con.execute("PRAGMA synchronous=FULL")
+                self._create()
+                self.empty = False
+                if fresh or self.con.execute("PRAGMA application_id").fetchone()[0] != APPLICATION_ID:
+                    self.con.execute(f"PRAGMA application_id={APPLICATION_ID}")
         except sqlite3.DatabaseError as exc:
-            raise InputError(f"not a results database ({exc})", value=str(path), where=str(path)) from None
+            self.con.close()
+            raise InputError(f"not a results database ({exc})", value=where, where=where) from None
+        except InputError:
+            self.con.close()
+            raise
+
+    def _identify(self, where: str) -> bool:
+        """Refuse (before any change) a file that is not a supcoord results database or is
+        corrupt; True for an empty database (a new file).  A database is supcoord's when it
+        carries :data:`APPLICATION_ID`, or (written before the id existed) holds only the
+        ``cases`` and ``runs`` tables with columns of :data:`COLUMNS` / :data:`RUN_COLUMNS`."""
+        app = self.con.execute("PRAGMA application_id").fetchone()[0]
+        try:
+            check = [r[0] for r in self.con.execute("PRAGMA quick_check")]
+        except sqlite3.DatabaseError as exc:
+            check = [str(exc)]
+        if check != ["ok"]:
+            raise InputError(f"the results database is corrupt (SQLite's quick_check: {'; '.join(check[:3])}); "
+                             "restore a copy, or give another database", value=where, where=where)
+        tables = {r[0] for r in self.con.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        if app == APPLICATION_ID:
+            return False
+        if app == 0 and not tables:
+            return True
+        layout = {"cases": COLUMNS, "runs": RUN_COLUMNS}
+        ours = app == 0 and "cases" in tables and tables <= {*layout, "sqlite_sequence"} and all(
+            {r[1] for r in self.con.execute(f"PRAGMA table_info({t})")} <= set(layout[t]) for t in tables & set(layout))
+        if not ours:
+            shown = ", ".join(sorted(tables)[:5]) or "none"
+            raise InputError(f"is a SQLite database but not a supcoord results database (application id {app}, "
+                             f"tables: {shown}); give another database file",
+                             value=where, where=where)
+        return False
 
     def _create(self) -> None:
         cols = ", ".join(f"{c} {t}" for c, t in COLUMNS.items())
@@ -94,33 +153,41 @@ class ResultStore:
 
     # -- writing -------------------------------------------------------------------------
 
+    @contextlib.contextmanager
+    def _transaction(self) -> Iterator[None]:
+        """BEGIN … COMMIT (rolled back on an error); a failed write (a full disk, a file-size
+        limit, a read-only file system) is an :class:`InputError` naming the database."""
+        try:
+            with self.con:
+                self.con.execute("BEGIN")
+                yield
+        except sqlite3.Error as exc:
+            raise InputError(f"cannot write the results database ({exc})", value=str(self.path),
+                             where=str(self.path)) from None
+
     def record(self, row: dict[str, Any]) -> None:
         """Insert or replace one case's row and commit it (one transaction)."""
         values = {c: row.get(c) for c in COLUMNS}
         if not isinstance(values["extra"], (str, type(None))):
             values["extra"] = json.dumps(values["extra"], default=str, sort_keys=True)
         names = ", ".join(values)
-        with self.con:  # BEGIN … COMMIT
-            self.con.execute("BEGIN")
+        with self._transaction():
             self.con.execute(f"INSERT OR REPLACE INTO cases ({names}) VALUES ({', '.join('?' * len(values))})",
                              [_plain(v) for v in values.values()])
 
     def forget(self, keys: Iterable[str]) -> None:
         """Delete the rows of ``keys`` (cases recorded as skipped that are due again)."""
-        with self.con:
-            self.con.execute("BEGIN")
+        with self._transaction():
             self.con.executemany("DELETE FROM cases WHERE key = ?", [(k,) for k in keys])
 
     def start_run(self, **fields: Any) -> int:
-        with self.con:
-            self.con.execute("BEGIN")
+        with self._transaction():
             cur = self.con.execute(f"INSERT INTO runs ({', '.join(fields)}) VALUES ({', '.join('?' * len(fields))})",
                                    [_plain(v) for v in fields.values()])
         return int(cur.lastrowid)
 
     def finish_run(self, run: int, **fields: Any) -> None:
-        with self.con:
-            self.con.execute("BEGIN")
+        with self._transaction():
             self.con.execute(f"UPDATE runs SET {', '.join(f'{k} = ?' for k in fields)} WHERE run = ?",
                              [*map(_plain, fields.values()), run])
 
@@ -128,10 +195,14 @@ class ResultStore:
 
     def finished(self) -> list[tuple[str, str, str, float | None, float | None, str]]:
         """``(key, params_key, status, time limit, memory limit MB, started)`` of every recorded case."""
+        if self.empty:
+            return []
         return list(self.con.execute("SELECT key, params_key, status, time_limit, memory_limit_mb, started FROM cases"))
 
     def rows(self, study: str | None = None) -> list[dict[str, Any]]:
         """Every case row (``extra`` parsed), ordered by series, size and seed."""
+        if self.empty:
+            return []
         sql = "SELECT * FROM cases" + (" WHERE study = ?" if study else "")
         with closing(self.con.execute(sql + " ORDER BY series, size, seed, started", (study,) if study else ())) as cur:
             names = [d[0] for d in cur.description]
@@ -141,6 +212,8 @@ class ResultStore:
         return out
 
     def runs(self) -> list[dict[str, Any]]:
+        if self.empty:
+            return []
         with closing(self.con.execute("SELECT * FROM runs ORDER BY run")) as cur:
             names = [d[0] for d in cur.description]
             return [dict(zip(names, r)) for r in cur]

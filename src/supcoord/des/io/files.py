@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 
-from ...errors import FormatError, InputError
+from ...errors import FormatError
 from ...outputs import atomic_output
 
 __all__ = ["read_bytes", "write_atomic"]
@@ -27,13 +27,10 @@ def write_atomic(path: str | os.PathLike, chunks: Iterable[str | bytes], encodin
     """Write the text ``chunks`` (strings, encoded with ``encoding``, or bytes as they
     are) to ``path`` through a temporary file in the same directory, moved into place
     once complete (:func:`supcoord.outputs.atomic_output`); :class:`InputError` naming the
-    path if it cannot be written."""
-    where = os.fspath(path)
-    try:
-        with atomic_output(where) as tmp:
-            with open(tmp, "wb") as f:
-                for chunk in chunks:
-                    f.write(chunk if isinstance(chunk, bytes) else chunk.encode(encoding))
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror or exc}", value=where, where=where) from None
+    path if it cannot be written
+    (also for a file with other hard links, or a symbolic link)."""
+    with atomic_output(path) as tmp:
+        with open(tmp, "wb") as f:
+            for chunk in chunks:
+                f.write(chunk if isinstance(chunk, bytes) else chunk.encode(encoding))
 
