@@ -57,12 +57,12 @@ def instrument_setup(layout: dict, data: dict, where: str | None) -> InstrumentS
         raise FormatError(f"layout.{unknown[0]} is not a field of an instrument layout (known: "
                           f"{', '.join(LAYOUT_FIELDS)})", value=unknown[0], where=where)
     name = layout.get("name")
-    if name not in INSTRUMENTS:
+    if not isinstance(name, str) or name not in INSTRUMENTS:
         raise InputError(f"layout.name: unknown instrument {_short(name)} (known: {', '.join(INSTRUMENTS)})",
                          value=name, where=where)
     geom = load_instrument(name)
     fibre = layout.get("fibre", "boss")
-    if fibre not in geom.fibres:
+    if not isinstance(fibre, str) or fibre not in geom.fibres:  # a list or object is no fibre's name
         raise InputError(f"layout.fibre must be one of {', '.join(geom.fibres)}, got {_short(fibre)}", value=fibre,
                          where=where)
     spec = data.get("kinematics", {})

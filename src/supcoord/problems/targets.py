@@ -27,6 +27,7 @@ annulus), a handedness whose solution leaves the beta range.
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -95,13 +96,17 @@ def parse_offline(value: Any, n: int, kin: Kinematics, where: str | None,
                           value=value, where=where)
     if not isinstance(kin, AlphaBeta):
         raise InputError(f"offline needs alpha-beta kinematics, got {kin.kind!r}", value=kin.kind, where=where)
-    out = {}
+    out: dict[int, tuple[float, float]] = {}
     for key, ab in value.items():
-        if not (isinstance(key, str) and key.isdigit() and int(key) < n):
+        # ASCII decimal digits only (str.isdigit also takes '²', '٣', '３'), and no longer than an index can be
+        if not (isinstance(key, str) and re.fullmatch(r"[0-9]{1,18}", key) and int(key) < n):
             raise InputError(f"offline: {_short(key)} is not a robot index in [0, {n - 1}]", value=key, where=where)
         if not (isinstance(ab, list) and len(ab) == 2 and all(_finite_number(v) for v in ab)):
             raise FormatError(f"offline.{key} must be [alpha, beta] in degrees, got {_short(ab)}", value=ab, where=where)
         p = int(key)
+        if p in out:
+            raise InputError(f"offline: robot {p} is given twice ({_short(key)} and another spelling)", value=key,
+                             where=where)
         out[p] = _in_ranges(kin if robots is None else robots[p], float(ab[0]), float(ab[1]), f"offline.{key}", where)
     return out
 
