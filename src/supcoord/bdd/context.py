@@ -70,9 +70,10 @@ class Context:
         *,
         reordering: bool = False,
         budget: Budget | None = None,
-        progress: ProgressCallback | None = None,
-        cache_size: int = 2**16,
+        progress: ProgressCallback | None = None, cache_size: int = 2**16,
     ):
+        if isinstance(cache_size, bool) or not isinstance(cache_size, int) or not 1 <= cache_size <= 2**30:
+            raise InputError(f"must be an integer in [1, 2**30], got {cache_size!r:.60}", where="cache_size")
         self._module = load_backend(backend)
         self.backend = "cudd" if self._module.__name__.endswith("cudd") else "autoref"
         # CUDD grows its computed table on demand; dd's default initial 2^18 slots cost

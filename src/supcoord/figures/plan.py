@@ -27,6 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..outputs import atomic_output
+from ..problems.consistency import check_plan, check_problem
 from ..problems.plan import Plan
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice
@@ -76,9 +77,18 @@ def _colliding(problem: Problem, q: np.ndarray) -> set[int]:
     return {p for a, b, _ in problem.collisions(q) for p in (a, b)}
 
 
+def checked(problem: Problem, plan: Plan) -> None:
+    """Refuse (:class:`InputError`) an inconsistent problem, or a plan that is malformed or of another problem."""
+    check_problem(problem)
+    if not isinstance(plan, Plan):
+        raise InputError(f"plan must be a Plan, got {type(plan).__name__}", value=None, where="plan")
+    check_plan(plan, problem)
+
+
 def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: int = 8, dpi: int = 100,
                     columns: int = 4) -> Path:
     """Evenly spaced configurations of the plan (first and last included), ``columns`` panels a row."""
+    checked(problem, plan)
     confs = plan.configurations or [problem.start]
     idx = np.unique(np.linspace(0, len(confs) - 1, min(max_frames, len(confs))).round().astype(int))
     cols = min(columns, len(idx))
@@ -111,6 +121,7 @@ def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int 
     Positioners colliding in a frame are red.  ``hold`` seconds on the first and the last
     frame.  Plans longer than :data:`MAX_GIF_FRAMES` frames get fewer substeps.
     """
+    checked(problem, plan)
     from PIL import Image
 
     if Path(path).suffix.lower() != ".gif":
@@ -181,6 +192,7 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], 
 
     At most ``max_panels``: the first incident of every colliding pair before repeats.
     """
+    checked(problem, plan)
     listed = list(result.get("incidents", []))
     # the first incident of each pair first (a pair often collides over several steps), then the rest
     seen: set[tuple[int, int]] = set()
@@ -221,6 +233,7 @@ def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dic
     configurations (infeasible, unknown) draws the problem, the positioners of an
     infeasibility certificate (``stats["certificate"]``) in orange.
     """
+    checked(problem, plan)
     suffix = Path(path).suffix.lower()
     if suffix not in FIGURE_SUFFIXES:
         raise InputError(f"--figure must end in {', '.join(FIGURE_SUFFIXES)}, got {path}", value=str(path))

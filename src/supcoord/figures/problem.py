@@ -40,6 +40,7 @@ from ..errors import InputError  # noqa: E402
 from ..geometry.collision import placed_segments  # noqa: E402
 from ..geometry.kinematics import Kinematics  # noqa: E402
 from ..outputs import atomic_output  # noqa: E402
+from ..problems.consistency import check_problem  # noqa: E402
 from ..problems.problem import Problem  # noqa: E402
 
 __all__ = ["capsule", "capsules", "arms", "plot_configuration", "plot_target", "plot_problem", "save_problem_figure", "draw_layout", "add_legend",
@@ -187,6 +188,7 @@ def plot_problem(problem: Problem, ax: Any = None, *, show_target: bool = True, 
     ``highlight``: indices in red, or a dict ``{index: colour}`` (e.g. an infeasibility
     certificate in ``COLORS["certificate"]``).
     """
+    check_problem(problem)
     if ax is None:
         _, ax = new_figure(problem)
     draw_layout(ax, problem, title or f"{problem.n} positioners, {problem.kinematics.kind}: start and target")

@@ -93,12 +93,21 @@ def hex_sites(count: int, pitch: float = 1.0) -> np.ndarray:
 
 
 def hex_neighbours(xy: np.ndarray, pitch: float = 1.0) -> tuple[tuple[int, ...], ...]:
-    """Indices of the bases at distance ≈ ``pitch`` from each base (hex adjacency)."""
+    """Indices of the bases at distance ≈ ``pitch`` from each base (hex adjacency), in
+    increasing order.  The bases are bucketed in cells a little larger than ``pitch``, so
+    each base is compared with the bases of its own and the 8 adjacent cells only (linear
+    in the number of bases, not quadratic)."""
     xy = np.asarray(xy, dtype=float)
+    cell = 1.01 * pitch
+    keys = np.floor(xy / cell).astype(np.int64) if len(xy) else np.zeros((0, 2), np.int64)
+    buckets: dict[tuple[int, int], list[int]] = {}
+    for i, (a, b) in enumerate(keys.tolist()):
+        buckets.setdefault((a, b), []).append(i)
     out = []
-    for i in range(len(xy)):
-        d = np.hypot(*(xy - xy[i]).T)
-        out.append(tuple(int(j) for j in np.nonzero(np.abs(d - pitch) < 1e-6 * pitch)[0]))
+    for i, (a, b) in enumerate(keys.tolist()):
+        near = np.array(sorted(j for da in (-1, 0, 1) for db in (-1, 0, 1) for j in buckets.get((a + da, b + db), ())))
+        d = np.hypot(*(xy[near] - xy[i]).T)
+        out.append(tuple(int(j) for j in near[np.abs(d - pitch) < 1e-6 * pitch]))
     return tuple(out)
 
 
@@ -144,10 +153,17 @@ class PaperInstance:
         return priority_event(self.priority[i], [self.priority[j] for j in self.neighbours[i]])
 
 
+#: most positioners and most positions per arm of a :func:`random_instance` (``supcoord paper``'s limits)
+MAX_INSTANCE, MAX_INSTANCE_STEPS = 20_000, 4096
+
+
 def paper_example(steps: int = 8, target: Sequence[int] = (1, 5, 5)) -> PaperInstance:
     """The paper's example: P1–P3 on the first three hex sites (mutual neighbours), starts
     ``[0], [6], [6]``, priorities 1, 2, 3 (P1 highest).  See docs/paper.md for ``steps``
     and ``target``."""
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 7 <= steps <= MAX_INSTANCE_STEPS:
+        raise InputError(f"must be an integer in [7, {MAX_INSTANCE_STEPS}] (P2 and P3 start at position 6), "
+                         f"got {steps!r:.60}", value=steps, where="steps")
     xy = hex_sites(3)
     return PaperInstance(steps, (0, 6, 6), tuple(int(t) for t in target), (1, 2, 3), hex_neighbours(xy))
 
@@ -155,8 +171,12 @@ def paper_example(steps: int = 8, target: Sequence[int] = (1, 5, 5)) -> PaperIns
 def random_instance(count: int, steps: int, seed: int = 0) -> PaperInstance:
     """``count`` positioners on the hex grid, starts/targets uniform (seeded), start ≠ target,
     priorities = indices (P1 highest)."""
-    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 2:
-        raise InputError(f"steps must be an integer >= 2, got {steps!r}", value=steps)
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or not 1 <= count <= MAX_INSTANCE:
+        raise InputError(f"must be an integer in [1, {MAX_INSTANCE}], got {count!r:.60}", value=count,
+                         where="count")
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 2 <= steps <= MAX_INSTANCE_STEPS:
+        raise InputError(f"must be an integer in [2, {MAX_INSTANCE_STEPS}], got {steps!r:.60}", value=steps,
+                         where="steps")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be an integer >= 0, got {seed!r}", value=seed, where="seed")
     rng = np.random.default_rng(seed)

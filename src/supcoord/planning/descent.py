@@ -244,11 +244,15 @@ def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int]) -> None:
 def descent(problem: Problem, c: np.ndarray, max_steps: int | None = None,
             check: Callable[..., None] | None = None) -> tuple[list[list[Move]], np.ndarray]:
     """Descent steps from ``c`` until all are at target or a stall: ``(steps, end)``.
-    ``check(stage, **info)`` is called before every step (budgets, progress)."""
+    ``check(stage, **info)`` is called before every step (budgets, progress).  Every step
+    brings a positioner one position closer to its target, so there are at most
+    ``n · Σ joint positions`` of them (the bound when ``max_steps`` is None)."""
     T = _Lookups(problem)
     steps: list[list[Move]] = []
     c = c.copy()
-    while max_steps is None or len(steps) < max_steps:
+    bound = problem.n * sum(j.steps for j in problem.kinematics.joints)
+    limit = bound if max_steps is None else min(max_steps, bound)
+    while len(steps) < limit:
         if check is not None:
             check("descent", iteration=len(steps))
         step = descent_step(problem, c, T)

@@ -45,6 +45,7 @@ from ..bdd.context import BDD, Budget
 from ..des.symbolic_ops import allevents
 from ..errors import BudgetExceeded, InputError
 from ..problems.plan import Move, Plan, event_name, exchanged, lower_bound, reversed_moves
+from ..problems.consistency import check_problem
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
@@ -292,10 +293,8 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     gave.  A budget that runs out raises
     :class:`BudgetExceeded` whose ``stats`` carry what was learned.
     """
-    if not isinstance(problem, Problem):
-        raise InputError(f"solve needs a Problem (supcoord.load_problem, random_problem, preset_problem), got "
-                         f"{type(problem).__name__}", value=type(problem).__name__)
-    if route not in ROUTES:
+    check_problem(problem)  # a Problem, and still consistent (a field replaced after parsing is refused)
+    if not isinstance(route, str) or route not in ROUTES:
         raise InputError(f"unknown route {route!r} (use {' or '.join(ROUTES)})", value=route)
     if improve is not None and (isinstance(improve, bool) or not isinstance(improve, (int, np.integer)) or improve < 0):
         raise InputError(f"improve must be a number of re-plannings >= 0 (0: off) or None, got {improve!r}",

@@ -267,6 +267,12 @@ def plan_from_moves(problem: Problem, moves: Sequence[Move], *, compact: bool = 
                     stats: dict | None = None, speed: float | None = None) -> Plan:
     """A ``complete`` plan from a single-move sequence that reaches the target, with its
     ``angles_deg`` and, given a joint ``speed`` (degrees per second), its trajectories."""
+    from .consistency import check_problem
+
+    check_problem(problem)
+    if not isinstance(moves, (list, tuple)):
+        raise InputError(f"moves must be a list of (positioner, joint, ±1), got {type(moves).__name__}", value=None,
+                         where="moves")
     check_speed(speed)
     kin = problem.kinematics
     confs = compact_moves(problem, moves) if compact else apply_moves(problem, moves)

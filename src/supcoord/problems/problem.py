@@ -87,6 +87,15 @@ class Problem:
     joint_rules: dict[int, tuple[float, float]] = field(default_factory=dict, repr=False)
     _unary: dict | None = field(default=None, repr=False)
 
+    def __post_init__(self) -> None:
+        # read-only arrays: nothing changes a problem in place behind its caches (.consistency)
+        for name in ("bases", "buffers", "start", "target"):
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray) and value.flags.writeable:
+                value = value.copy()
+                value.setflags(write=False)
+                setattr(self, name, value)
+
     @property
     def n(self) -> int:
         """Number of positioners."""

@@ -82,6 +82,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import InputError
+from .consistency import check_problem, plan_defects
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
@@ -171,14 +172,17 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a
     bad plan.  ``resolution`` (mm, within :data:`RESOLUTION_RANGE`) sets the first sampling;
     the verdict does not depend on it."""
-    if not isinstance(problem, Problem) or not isinstance(plan, Plan):
-        raise InputError(f"validate_plan needs a Problem and a Plan, got {type(problem).__name__} and "
-                         f"{type(plan).__name__}", value=None)
+    if not isinstance(plan, Plan):
+        raise InputError(f"validate_plan needs a Plan, got {type(plan).__name__}", value=None, where="plan")
+    check_problem(problem)  # a Problem, and still consistent
+
     lo, hi = RESOLUTION_RANGE
     if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
         raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
                          value=resolution, where="resolution")
-    problems: list[str] = []
+    problems: list[str] = plan_defects(plan, problem.n, problem.kinematics.n_joints)
+    if problems:  # a malformed plan is an invalid one
+        return _result(False, 0, 0, problems[:1], 0, None)
     if plan.lattice is not None and tuple(plan.lattice) != problem.kinematics.shape:
         try:  # planned on a finer lattice: the same problem re-derived there (.refine)
             problem = at_lattice(problem, plan.lattice)
