@@ -420,9 +420,9 @@ def test_cli_coupled_modular_is_one_line_exit_2(capsys):
 
 
 @pytest.mark.parametrize("model", ["literal", "coupled"])
-def test_negative_seed_is_a_user_error_naming_the_flag(model):
+def test_negative_seed_is_a_user_error_naming_the_parameter(model):
     with pytest.raises(InputError) as info:
         solve_paper(3, 8, model, seed=-1)
-    assert info.value.where == "--seed"
+    assert info.value.where == "seed"  # the library's parameter; the command line says --seed
     with pytest.raises(InputError):
         random_instance(3, 8, seed=-1)

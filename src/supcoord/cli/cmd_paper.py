@@ -73,14 +73,25 @@ def _magnitude(count: int | None, log10: float | None) -> str:
     return "0" if log10 is None else f"10^{log10:.1f}"
 
 
+#: parameters of :func:`~supcoord.paper.run.solve_paper` whose errors are shown as the options of the same name
+LIBRARY_PARAMETERS = ("positioners", "steps", "model", "seed", "semantics", "route")
+
+
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..bdd.context import Context
+    from ..errors import InputError
     from ..paper.run import solve_paper
 
     ctx = Context(args.backend, budget=budget_from_args(args), progress=console.progress)
-    payload = solve_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
-                          route=args.route, count_transitions=True if args.count_transitions else None,
-                          count_states=True if args.count_states else None)
+    try:
+        payload = solve_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
+                              route=args.route, count_transitions=True if args.count_transitions else None,
+                              count_states=True if args.count_states else None)
+    except InputError as exc:  # the library names its parameters; here they are options
+        if exc.where not in LIBRARY_PARAMETERS:
+            raise
+        message = exc.message.replace("use route ", "use --route ").replace("count_states ", "--count-states ")
+        raise InputError(message, value=exc.value, where="--" + exc.where.replace("_", "-")) from None
     t = payload["timings"]
     verdict = "forcible" if payload["ccc"] else "NOT forcible"
     if payload["ccc"]:

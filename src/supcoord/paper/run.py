@@ -144,7 +144,7 @@ def coupled_instance(positioners: int, steps: int, seed: int = 0, geometry: Geom
     (the first branch is plain rejection sampling); a search that needs more than
     ``max_tries`` placements restarts with new seeded orders (an unlucky early choice
     can doom a deep subtree), up to ``restarts`` times, then raises :class:`InputError`."""
-    seed = _positive_int(seed, 0, "--seed")
+    seed = _positive_int(seed, 0, "seed")
     rng = np.random.default_rng(seed)
     xy = hex_sites(positioners)
     base = PaperInstance(steps, (0,) * positioners, (0,) * positioners, tuple(range(1, positioners + 1)),
@@ -160,7 +160,7 @@ def coupled_instance(positioners: int, steps: int, seed: int = 0, geometry: Geom
         else:
             raise InputError(f"found no {what} configuration of {positioners} positioners with every pair outside "
                              f"the safety zone (seed {seed}, {restarts} restarts of {max_tries} placements)",
-                             value=seed, where="--seed")
+                             value=seed, where="seed")
         confs.append(tuple(conf))
     return PaperInstance(steps, confs[0], confs[1], base.priority, base.neighbours)
 
@@ -206,30 +206,30 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     :class:`~supcoord.errors.BudgetExceeded` when it runs out.
     """
     if model not in MODELS:
-        raise InputError(f"must be literal or coupled, got {model!r}", value=model, where="--model")
+        raise InputError(f"must be literal or coupled, got {model!r}", value=model, where="model")
     chosen = route is None
     route = default_route(model, semantics, count_states) if route is None else route
     if route not in ROUTES:
-        raise InputError(f"must be modular, monolithic or settled, got {route!r}", value=route, where="--route")
+        raise InputError(f"must be modular, monolithic or settled, got {route!r}", value=route, where="route")
     if route == "settled":
         if model != "coupled":
             raise InputError("settled is a route of the coupled model (its collision events settle the levels); "
-                             "the literal model's routes are modular and monolithic", value=route, where="--route")
+                             "the literal model's routes are modular and monolithic", value=route, where="route")
         if semantics != "preemptive":
             raise InputError("settled is exact under preemptive semantics only (under standard semantics a "
-                             "controllable event may be forced while a collision event is pending); use --route "
-                             "monolithic", value=semantics, where="--semantics")
+                             "controllable event may be forced while a collision event is pending); use route "
+                             "monolithic", value=semantics, where="semantics")
         if count_states:
-            raise InputError("--count-states counts V, which the settled route does not build; use --route "
-                             "monolithic", value=route, where="--route")
+            raise InputError("count_states counts V, which the settled route does not build; use route "
+                             "monolithic", value=route, where="route")
     if route == "modular" and model != "literal":
         raise InputError("modular is exact for the literal model only (the coupled model's collision "
                          "guards read the neighbours' positions, so its positioners are not independent); "
-                         "use --route monolithic", value=route, where="--route")
+                         "use route monolithic", value=route, where="route")
     if instance is None:
-        positioners = _positive_int(positioners, 1, "--positioners", MAX_POSITIONERS)
-        steps = _positive_int(steps, 2, "--steps", MAX_STEPS)
-        seed = _positive_int(seed, 0, "--seed", MAX_SEED)
+        positioners = _positive_int(positioners, 1, "positioners", MAX_POSITIONERS)
+        steps = _positive_int(steps, 2, "steps", MAX_STEPS)
+        seed = _positive_int(seed, 0, "seed", MAX_SEED)
     elif not isinstance(instance, PaperInstance):
         raise InputError(f"instance must be a PaperInstance, got {type(instance).__name__}", value=instance)
     t0 = time.perf_counter()
