@@ -394,11 +394,12 @@ def test_huge_counts_stay_readable_json():
 
 
 @pytest.mark.parametrize("kwargs, where", [
-    ({"model": "coupled", "route": "modular"}, "--route"),
-    ({"route": "sideways"}, "--route"),
-    ({"model": "quantum"}, "--model"),
+    ({"model": "coupled", "route": "modular"}, "route"),
+    ({"route": "sideways"}, "route"),
+    ({"model": "quantum"}, "model"),
 ])
 def test_bad_route_or_model_is_a_user_error(kwargs, where):
+    """The library names its parameters (the command line translates them to --route, --model)."""
     with pytest.raises(InputError) as info:
         solve_paper(3, 6, **kwargs)
     assert info.value.where == where

@@ -18,7 +18,7 @@ import argparse
 from ..problems.plan import load_plan
 from ..problems.problem import load_problem
 from ..problems.validate import RESOLUTION_RANGE, validate_plan
-from .cmd_solve import figure_suffix
+from .cmd_solve import as_option, figure_suffix
 from .common import CommandResult, Console, add_problem_argument
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
@@ -73,7 +73,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
         drawn = dict(result, incidents=[i for i in result["incidents"] if len(i["positioners"]) == 2]
                      if plan.configurations else [])
-        save_plan_figure(problem, plan, args.figure, drawn)
+        with as_option("--figure"):
+            save_plan_figure(problem, plan, args.figure, drawn)
     verdict = "VALID" if result["valid"] else "INVALID"
     lines = [f"{verdict}: {result['steps']} steps, {result['collisions']} collisions, "
              f"{result['at_target']}/{problem.n} positioners at target"]

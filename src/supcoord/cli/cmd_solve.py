@@ -16,8 +16,9 @@ angles (``angles_deg``); ``--speed DEG_PER_S`` adds timed ``trajectories`` and
 from __future__ import annotations
 
 import argparse
+import contextlib
 from pathlib import Path
-from typing import Sequence
+from typing import Iterator, Sequence
 
 from .common import CommandResult, Console, add_problem_argument, budget_from_args
 
@@ -91,6 +92,20 @@ def writable(path: str | None, flag: str, inputs: Sequence[str] = ()) -> None:
         check_output(path, inputs, what=flag)
 
 
+@contextlib.contextmanager
+def as_option(flag: str) -> Iterator[None]:
+    """A write failure the library reports for its ``output`` (a full disk, a read-only
+    folder) is reported for the option that named the file."""
+    from ..errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        if not exc.message.startswith("output: "):
+            raise
+        raise InputError(flag + exc.message[6:], value=exc.value, where=exc.where) from None
+
+
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..planning.planner import solve
     from ..problems.problem import load_problem
@@ -126,16 +141,18 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
                  progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only,
                  refine=not args.no_refine)
     if args.out:
-        plan.dump(args.out, problem)
+        with as_option("--out"):
+            plan.dump(args.out, problem)
     if csv is not None and plan.trajectories is not None:
         from ..outputs import atomic_write_text
         from ..problems.trajectory import trajectories_csv
 
-        atomic_write_text(csv, trajectories_csv(plan.trajectories))
+        atomic_write_text(csv, trajectories_csv(plan.trajectories), what="--trajectories-csv")
     if args.figure:
         from ..figures.plan import save_plan_figure
 
-        save_plan_figure(problem, plan, args.figure)
+        with as_option("--figure"):
+            save_plan_figure(problem, plan, args.figure)
     s = plan.stats
     if plan.status == "complete":
         text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "

@@ -20,7 +20,9 @@ every row of a results database (``.sqlite``) given instead of the study file.  
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
+from collections.abc import Iterator
 from pathlib import Path
 
 from .common import CommandResult, Console
@@ -158,25 +160,18 @@ def _show(args, console, study, database) -> CommandResult:
 def _export(args, console, study, database) -> CommandResult:
     from ..study.results import export_results
 
-    from ..errors import InputError
     from ..outputs import check_output
 
     fmt = args.format or (Path(args.out).suffix.lstrip(".").lower() if args.out else "csv") or "csv"
     out = Path(args.out) if args.out else database.with_suffix(f".{fmt}")
     check_output(out, [database, args.study], "--out")  # never over the database or the study file
-    try:
+    with _out_option():
         n = export_results(_existing(database), out, fmt, study=study)
-    except InputError as exc:  # the library names its parameter 'out'; here it is --out
-        if exc.message.startswith("out: "):
-            raise InputError("--out: " + exc.message[5:], value=exc.value, where=exc.where) from None
-        raise
     return CommandResult({"status": "ok", "rows": n, "format": fmt, "out": str(out)}, f"{n} rows written to {out}")
 
 
 def _plot(args, console, study, database) -> CommandResult:
     import matplotlib
-
-    from ..errors import InputError
 
     matplotlib.use("Agg")
     from ..study.plots import study_figures
@@ -185,13 +180,26 @@ def _plot(args, console, study, database) -> CommandResult:
     from ..study.plots import check_output_dir
 
     out = Path(args.out) if args.out else database.with_name(database.stem + "-figures")
-    try:
+    with _out_option():
         check_output_dir(out)
-    except InputError as exc:
-        raise InputError(exc.message, value=exc.value, where="--out") from None
-    paths = study_figures(results_rows(_existing(database), study=study), out, inputs=[database, args.study])
+        paths = study_figures(results_rows(_existing(database), study=study), out, inputs=[database, args.study])
     return CommandResult({"status": "ok", "figures": [str(p) for p in paths]},
                          "figures written: " + ", ".join(str(p) for p in paths))
+
+
+@contextlib.contextmanager
+def _out_option() -> Iterator[None]:
+    """The library names its parameter ``out``; on the command line it is ``--out``."""
+    from ..errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        if exc.where == "out":
+            raise InputError(exc.message, value=exc.value, where="--out") from None
+        if exc.message.startswith("out: "):
+            raise InputError("--out: " + exc.message[5:], value=exc.value, where=exc.where) from None
+        raise
 
 
 def _existing(database: Path) -> Path:

@@ -47,7 +47,7 @@ def check_problem(problem: Any, where: str = "problem") -> None:
     """Raise :class:`InputError` unless ``problem`` is a :class:`Problem` whose fields are
     still consistent with each other (module docstring); ``where`` names the parameter."""
     if not isinstance(problem, Problem):
-        raise InputError(f"{where} must be a Problem (supcoord.load_problem, random_problem, preset_problem), got "
+        raise InputError(f"{where}: needs a Problem (supcoord.load_problem, random_problem, preset_problem), got "
                          f"{type(problem).__name__}", value=type(problem).__name__)
     kin = problem.kinematics
     if not isinstance(kin, Kinematics):
