@@ -95,10 +95,20 @@ def test_every_block_is_run_or_excluded_with_a_reason():
     assert [b.strip() for b in bash_blocks("README.md")[:2]] == [k[1] for k in EXCLUDED if k[0] == "README.md"]
 
 
+def fresh_shell(env: dict) -> dict:
+    """``env`` as a new terminal has it after the README's install: ``.venv`` not activated."""
+    venv_bins = {str(Path(sys.prefix) / "bin"), str(Path(sys.executable).parent), str(Path(env["VIRTUAL_ENV"]) / "bin")}
+    path = os.pathsep.join(d for d in env["PATH"].split(os.pathsep) if d not in venv_bins)
+    return {k: v for k, v in env.items() if k != "VIRTUAL_ENV"} | {"PATH": path}
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(900)
 def test_readme_blocks_run_as_written(clone):
+    """The README is read on a fresh machine: its blocks run in a shell where ``.venv`` is not
+    activated, so they must say how ``supcoord`` gets on the PATH themselves."""
     cwd, env = clone
+    env = fresh_shell(env)
     run_block(README_SETUP, cwd, env, {0}, 300)
     assert (cwd / "supcoord-demo" / "G.gen").exists()
     for block in to_run("README.md"):
@@ -145,3 +155,6 @@ def test_a_failing_command_in_a_block_fails_the_run(clone):
         run_block("python3 -c 'raise SystemExit(\"Traceback (most recent call last):\")' || true", cwd, env,
                   {0}, 60)
     assert run_block("source .venv/bin/activate\ncommand -v supcoord", cwd, env, {0}, 60).strip().endswith("supcoord")
+    if shutil.which("supcoord", path=fresh_shell(env)["PATH"]) is None:  # not installed system-wide as well
+        with pytest.raises(AssertionError, match="commands failed"):
+            run_block("supcoord --version", cwd, fresh_shell(env), {0}, 60)
