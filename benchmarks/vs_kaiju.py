@@ -258,8 +258,8 @@ def kaiju_row(args, inst, planner, direction, work) -> dict:
            "deadlocked": len(k["deadlocked"]), "off_target": len(k["off_target"]),
            "cpu_s": k["cpu_seconds"], "wall_s": k["wall_seconds"],
            "motion_time_s": k["motion_time_s"], "motion_time_smoothed_s": k.get("motion_time_smoothed_s"),
-           "n_steps": k["n_steps"], "source": portable(os.path.abspath(src), run_places(args)) + (" (fold, reversed: derived from fold)"
-                                                                     if derived else ""),
+           "n_steps": k["n_steps"], "source": portable(os.path.abspath(src), run_places(args)) + (
+               " (fold, reversed: derived from fold)" if derived else ""),
            "command_wall_s": cmd_wall}
     return row
 

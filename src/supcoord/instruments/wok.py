@@ -112,7 +112,7 @@ def _draw(geom: InstrumentGeometry, robots: np.ndarray, fibre: str, rng: np.rand
         out[todo[ok]] = ab[ok]
         todo = todo[~ok]
     raise InputError(f"no target of robot {int(robots[todo[0]])} inside the joint ranges in 10,000 draws",
-                     value=int(robots[todo[0]]), where="fibre")
+                     value=int(robots[todo[0]]))
 
 
 def random_wok_targets(instrument: str | InstrumentGeometry = "sdss-v-apo", seed: int = 0, *,
@@ -160,12 +160,11 @@ def random_wok_targets(instrument: str | InstrumentGeometry = "sdss-v-apo", seed
     """
     geom = _geometry(instrument)
     if fibre not in FIBRES:
-        raise InputError(f"fibre must be one of {', '.join(FIBRES)}, got {fibre!r:.40}", value=fibre, where="fibre")
+        raise InputError(f"fibre must be one of {', '.join(FIBRES)}, got {fibre!r:.40}", value=fibre)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2 ** 63:
-        raise InputError(f"seed must be an integer in [0, 2**63), got {seed!r:.40}", value=seed, where="seed")
+        raise InputError(f"seed must be an integer in [0, 2**63), got {seed!r:.40}", value=seed)
     if isinstance(max_rounds, bool) or not isinstance(max_rounds, (int, np.integer)) or not 1 <= max_rounds <= 10 ** 6:
-        raise InputError(f"max_rounds must be an integer in [1, 1000000], got {max_rounds!r:.40}", value=max_rounds,
-                         where="max_rounds")
+        raise InputError(f"max_rounds must be an integer in [1, 1000000], got {max_rounds!r:.40}", value=max_rounds)
     rng = np.random.default_rng(int(seed))
     n = len(geom.hole_ids)
     pairs = _neighbours(geom)
@@ -176,7 +175,7 @@ def random_wok_targets(instrument: str | InstrumentGeometry = "sdss-v-apo", seed
             return angles
         angles[hit] = _draw(geom, hit, fibre, rng)
     raise InputError(f"no collision-free targets after {max_rounds} rounds ({len(hit)} robots still collide)",
-                     value=int(len(hit)), where="max_rounds")
+                     value=int(len(hit)))
 
 
 def wok_targets(instrument: str | InstrumentGeometry, targets: Mapping[Any, Any], *, form: str = "xy_mm",
@@ -223,47 +222,53 @@ def wok_targets(instrument: str | InstrumentGeometry, targets: Mapping[Any, Any]
     """
     geom = _geometry(instrument)
     if form not in ("xy_mm", "alpha_beta_deg"):
-        raise InputError(f"form must be 'xy_mm' or 'alpha_beta_deg', got {form!r:.40}", value=form, where="form")
+        raise InputError(f"form must be 'xy_mm' or 'alpha_beta_deg', got {form!r:.40}", value=form)
     if fibre not in FIBRES:
-        raise InputError(f"fibre must be one of {', '.join(FIBRES)}, got {fibre!r:.40}", value=fibre, where="fibre")
+        raise InputError(f"fibre must be one of {', '.join(FIBRES)}, got {fibre!r:.40}", value=fibre)
     n = len(geom.hole_ids)
-    out = folded_configuration(geom) if others is None else np.array(others, dtype=float)
-    if out.shape != (n, 2) or not np.all(np.isfinite(out)):
-        raise InputError(f"others must be {n} finite (alpha, beta) pairs in degrees", value=None, where="others")
+    out = folded_configuration(geom) if others is None else _angles(others)
+    if out is None or out.shape != (n, 2) or not np.all(np.isfinite(out)):
+        raise InputError(f"others must be {n} finite (alpha, beta) pairs in degrees", value=None)
     row = {pid: i for i, pid in enumerate(geom.positioner_ids)}
     for key, value in targets.items():
         pid = int(key) if isinstance(key, str) and key.isascii() and key.isdigit() else key
         if isinstance(pid, bool) or not isinstance(pid, (int, np.integer)) or int(pid) not in row:
-            raise InputError(f"targets: {key!r:.40} is not a positioner ID of {geom.name}", value=key, where="targets")
+            raise InputError(f"targets: {key!r:.40} is not a positioner ID of {geom.name}", value=key)
         p = row[int(pid)]
         v = np.asarray(value, dtype=float) if _pair(value) else None
         if v is None:
-            raise InputError(f"targets[{key}] must be a pair of finite numbers, got {value!r:.60}", value=value,
-                             where="targets")
+            raise InputError(f"targets[{key}] must be a pair of finite numbers, got {value!r:.60}", value=value)
         if form == "xy_mm":
             if fibre == "apogee" and geom.has_apogee is not None and not geom.has_apogee[p]:
-                raise InputError(f"targets[{key}]: positioner {key} has no APOGEE fibre (a Boss hole)", value=key,
-                                 where="targets")
+                raise InputError(f"targets[{key}]: positioner {key} has no APOGEE fibre (a Boss hole)", value=key)
             a, b = fibre_joints(geom, p, v, fibre)
             if not np.isfinite(a):
                 rf = float(np.hypot(*geom.fibres[fibre][p]))
                 la = float(geom.alpha_arm[p])
                 raise InputError(f"targets[{key}]: {fibre} fibre position {v.tolist()} is "
                                  f"{float(np.hypot(*(v - geom.bases[p]))):.3f} mm from the robot's alpha axis, outside "
-                                 f"its reach [{abs(rf - la):.3f}, {rf + la:.3f}] mm", value=v.tolist(), where="targets")
+                                 f"its reach [{abs(rf - la):.3f}, {rf + la:.3f}] mm", value=v.tolist())
         else:
             a, b = float(v[0]) % 360.0, float(v[1])
         if not TARGET_BETA_RANGE[0] <= b <= TARGET_BETA_RANGE[1]:
             raise InputError(f"targets[{key}]: beta {b:.3f} deg is outside the beta range "
-                             f"{list(TARGET_BETA_RANGE)}", value=[float(a), float(b)], where="targets")
+                             f"{list(TARGET_BETA_RANGE)}", value=[float(a), float(b)])
         out[p] = a, b
     return out
+
+
+def _angles(value: Any) -> np.ndarray | None:
+    """``value`` as a float array, or None when it is not numbers."""
+    try:
+        return np.array(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return None
 
 
 def _pair(value: Any) -> bool:
     try:
         v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return False
     return v.shape == (2,) and bool(np.all(np.isfinite(v)))
 
@@ -298,10 +303,10 @@ def wok_problem(instrument: str | InstrumentGeometry, start: Any, target: Any, *
     n = len(geom.hole_ids)
     conf = {}
     for what, value in (("start", start), ("target", target)):
-        a = np.array(value, dtype=float)
-        if a.shape != (n, 2) or not np.all(np.isfinite(a)):
-            raise InputError(f"{what} must be {n} finite (alpha, beta) pairs in degrees, got shape {a.shape}",
-                             value=list(a.shape), where=what)
+        a = _angles(value)
+        if a is None or a.shape != (n, 2) or not np.all(np.isfinite(a)):
+            got = f"shape {a.shape}" if a is not None else f"{value!r:.40}"
+            raise InputError(f"{what} must be {n} finite (alpha, beta) pairs in degrees, got {got}", value=got)
         conf[what] = {"alpha_beta_deg": [[float(x), float(y)] for x, y in a]}
     out: dict[str, Any] = {}
     if name is not None:

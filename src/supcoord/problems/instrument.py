@@ -131,7 +131,7 @@ def problem_fibre(data: dict, where: str | None) -> str | None:
         raise InputError(f"{p0} is {v0!r} but {p1} is {v1!r}: a problem places one fibre", value=[v0, v1], where=where)
     layout = data.get("layout")
     if found and not (isinstance(layout, dict) and layout.get("kind") == "instrument"):
+        kind = layout.get("kind") if isinstance(layout, dict) else "missing"
         raise InputError(f"{found[0][0]}: only an instrument layout has named fibres (its robots carry several); "
-                         f"a {layout.get('kind') if isinstance(layout, dict) else 'missing'} layout's fibre is the arm's "
-                         f"end", value=found[0][1], where=where)
+                         f"a {_short(kind)} layout's fibre is the arm's end", value=found[0][1], where=where)
     return found[0][1] if found else None

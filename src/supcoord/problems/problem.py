@@ -353,7 +353,8 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
         layout = {"kind": "hex", "rings": int(layout_spec["rings"]), "pitch": float(layout_spec["pitch"])}
     extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
     problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
-                      _unknown_fields(data, where) + radian_warnings(data, where), robot_kinematics=robot_kins, margin=margin,
+                      _unknown_fields(data, where) + radian_warnings(data, where), robot_kinematics=robot_kins,
+                      margin=margin,
                       obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
                       obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
