@@ -106,6 +106,24 @@ def _fail(msg: str):
 _K = None  # the kaiju modules, imported lazily (WOKCALIB_DIR must be set first)
 
 
+def _portable(paths: str) -> str:
+    """Paths (``:``-separated) as a results file records them, without this machine's directories:
+    relative to the repository inside it, else ``$TMPDIR/`` (the temporary directory) or ``$DIR/``
+    and the file name."""
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    tmp = os.path.abspath(tempfile.gettempdir())
+    out = []
+    for path in paths.split(":"):
+        real = os.path.abspath(path)
+        if real.startswith(repo + os.sep):
+            out.append(os.path.relpath(real, repo))
+        elif real.startswith(tmp + os.sep):
+            out.append("$TMPDIR/" + os.path.relpath(real, tmp))
+        else:
+            out.append("$DIR/" + os.path.basename(real))
+    return ":".join(out)
+
+
 def _kaiju(wokcalib: str | None = None):
     """Import kaiju with coordio's calibration pointed at the APO and LCO tables (coordio
     concatenates the directories listed in ``WOKCALIB_DIR``, one per site)."""
@@ -374,7 +392,7 @@ def make_instance(kind: str, seed: int) -> dict:
         inst["fps_calibrations"] = {"release": "2025.12.04",
                                     "commit": "e7867464fe410188e8aa93cbcbd4eb113afed005",
                                     "dir": f"{kind}/wok_calibs/{CALIB_DIRS[kind]}",
-                                    "WOKCALIB_DIR": K["wokcalib"]}
+                                    "WOKCALIB_DIR": _portable(K["wokcalib"])}
     return inst
 
 
@@ -491,7 +509,7 @@ def cmd_plan(args) -> None:
     solved = (not did_fail) and not off_target
     out = {
         "format": "supcoord-benchmark/kaiju-plan/1",
-        "instance": os.path.abspath(args.instance), "grid": inst["grid"], "seed": inst["seed"],
+        "instance": _portable(args.instance), "grid": inst["grid"], "seed": inst["seed"],
         "plan_seed": seed,
         "planner": args.planner, "planner_params": params, "direction": args.direction,
         "kaiju_version": inst["kaiju_version"],
@@ -711,7 +729,7 @@ def cmd_replay(args) -> None:
     overall = min(mins.values())
     out = {
         "format": "supcoord-benchmark/kaiju-replay/1",
-        "instance": os.path.abspath(args.instance), "angles": os.path.abspath(args.angles),
+        "instance": _portable(args.instance), "angles": _portable(args.angles),
         "kaiju_version": inst["kaiju_version"],
         "replayed": replayed,
         "configurations": len(configs),

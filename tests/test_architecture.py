@@ -23,7 +23,7 @@ ALLOWED: dict[str, set[str]] = {
     "des": {"bdd", "errors", "progress", "outputs"},
     "synthesis": {"des", "bdd", "errors", "progress"},
     "geometry": {"errors"},
-    "instruments": {"errors"},
+    "instruments": {"geometry", "errors"},
     "problems": {"geometry", "instruments", "errors", "outputs"},
     "paper": {"synthesis", "des", "bdd", "geometry", "errors", "progress", "outputs"},
     "planning": {"problems", "geometry", "synthesis", "des", "bdd", "errors", "progress"},

@@ -55,6 +55,9 @@ geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`
                    :func:`plan_from_moves`, :func:`validate_plan`,
                    :func:`solve` (a problem -> a validated plan or a
                    certificate of infeasibility)
+real woks          :func:`load_instrument`, :func:`folded_configuration`,
+                   :func:`random_wok_targets`, :func:`wok_targets`,
+                   :func:`wok_problem` (PROBLEM.json objects on SDSS-V's woks)
 progress           :func:`progress_bar`, :class:`ProgressBar`,
                    :class:`ProgressLog` (``progress=`` callbacks)
 figures            :func:`plot_problem`, :func:`save_plan_strip`,
@@ -146,6 +149,12 @@ _LAZY: dict[str, str] = {
     "load_plan": "supcoord.problems.plan",
     "plan_from_moves": "supcoord.problems.plan",
     "validate_plan": "supcoord.problems.validate",
+    # real woks: starts and targets of problems on them
+    "load_instrument": "supcoord.instruments",
+    "folded_configuration": "supcoord.instruments",
+    "random_wok_targets": "supcoord.instruments",
+    "wok_targets": "supcoord.instruments",
+    "wok_problem": "supcoord.instruments",
     "solve": "supcoord.planning.planner",
     # progress of long fixpoints
     "progress_bar": "supcoord.progress",

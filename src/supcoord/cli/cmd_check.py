@@ -16,7 +16,8 @@ from __future__ import annotations
 import argparse
 
 from ..problems.plan import load_plan
-from ..problems.problem import load_problem
+from ..errors import InputError, SupcoordError
+from ..problems.problem import MAX_PROBLEM_BYTES, load_problem, read_json
 from ..problems.validate import RESOLUTION_RANGE, validate_plan
 from .cmd_solve import as_option, figure_suffix
 from .common import CommandResult, Console, add_problem_argument
@@ -55,15 +56,39 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "shows each collision found, or a strip of frames when there is none")
 
 
-def run(args: argparse.Namespace, console: Console) -> CommandResult:
-    from ..errors import InputError
+#: fields only a PLAN.json has (a PROBLEM.json has "layout")
+PLAN_FIELDS = ("configurations", "angles_deg", "trajectories")
 
+
+def _peek(path: str) -> object:
+    try:
+        return read_json(path, "problem", MAX_PROBLEM_BYTES)
+    except SupcoordError:
+        return None
+
+
+def _load_problem(problem_path: str, plan_path: str):
+    """:func:`load_problem`, with a hint when the two files were given the other way round."""
+    try:
+        return load_problem(problem_path)
+    except InputError:
+        data = _peek(problem_path)
+        found = [k for k in PLAN_FIELDS if k in data] if isinstance(data, dict) and "layout" not in data else []
+        if not found:
+            raise
+        other = _peek(plan_path)
+        swapped = f" and {plan_path} looks like a PROBLEM" if isinstance(other, dict) and "layout" in other else ""
+        raise InputError(f"looks like a PLAN (it has '{found[0]}'), not a PROBLEM{swapped}; usage: supcoord check "
+                         f"PROBLEM.json PLAN.json", value=found[0], where=problem_path) from None
+
+
+def run(args: argparse.Namespace, console: Console) -> CommandResult:
     lo, hi = RESOLUTION_RANGE
     if not lo <= args.resolution <= hi:
         raise InputError(f"must be a number of mm in [{lo:g}, {hi:g}], got {args.resolution}",
                          value=args.resolution, where="--resolution")
     figure_suffix(args.figure, [args.problem, args.plan])
-    problem = load_problem(args.problem)
+    problem = _load_problem(args.problem, args.plan)
     plan = load_plan(args.plan, problem)
     for warning in problem.warnings:
         console.warn(warning)

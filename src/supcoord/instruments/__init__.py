@@ -4,8 +4,10 @@
 release 2025.12.04) and returns an :class:`InstrumentGeometry`: 500 robots (bases, measured
 arms, fibres, offsets), 60 fiducials and 6 guide cameras as obstacles, and kaiju's collision
 segment, buffers, joint ranges and folded lattice, each number with its source.
-:func:`robot_forward` and :func:`fibre_xy` are kaiju's forward kinematics. See
-``docs/instruments.md``.
+:func:`robot_forward` and :func:`fibre_xy` are kaiju's forward kinematics.
+:mod:`.wok` writes wok problems: :func:`folded_configuration`, :func:`random_wok_targets`
+(kaiju-like, seeded, decollided), :func:`wok_targets` (by positioner ID, in wok mm or angles)
+and :func:`wok_problem` (a PROBLEM.json object). See ``docs/instruments.md``.
 """
 
 from .sdss_v import (
@@ -17,6 +19,7 @@ from .sdss_v import (
     robot_collision_distance,
     robot_forward,
 )
+from .wok import folded_configuration, random_wok_targets, wok_problem, wok_targets
 
 __all__ = [
     "INSTRUMENTS",
@@ -26,4 +29,8 @@ __all__ = [
     "fibre_xy",
     "fibre_joints",
     "robot_collision_distance",
+    "folded_configuration",
+    "random_wok_targets",
+    "wok_targets",
+    "wok_problem",
 ]

@@ -24,7 +24,7 @@ MAX_OBSTACLES = 100_000
 EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
 #: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
 KNOWN_FIELDS = {
-    "": ("layout", "kinematics", "collision", "start", "target", "priority", "offline") + EXTRA_FIELDS,
+    "": ("layout", "kinematics", "collision", "start", "target", "priority", "offline", "fibre") + EXTRA_FIELDS,
     "layout/hex": ("kind", "rings", "pitch"),
     "layout/points": ("kind", "xy", "obstacles"),
     "layout/instrument": LAYOUT_FIELDS,

@@ -105,3 +105,33 @@ def _fiducial_rule() -> tuple[float, float]:
     from ..instruments.sdss_v import FIDUCIAL_WATCH
 
     return float(FIDUCIAL_WATCH[0]), float(FIDUCIAL_WATCH[1])
+
+
+#: where a PROBLEM.json may name its fibre (one meaning wherever it is: the fibre ``xy_mm`` places)
+FIBRE_PLACES = ("fibre", "layout.fibre", "start.fibre", "target.fibre")
+
+
+def problem_fibre(data: dict, where: str | None) -> str | None:
+    """The fibre a problem names (``docs/formats.md``): ``"fibre"`` at the top level, in ``layout``,
+    or in the ``start``/``target`` object; each place must agree, and only an instrument layout
+    has named fibres.  ``None`` when none is named (the instrument's default, BOSS)."""
+    from ..instruments.sdss_v import FIBRES
+
+    found = []
+    for place in FIBRE_PLACES:
+        obj = data if "." not in place else data.get(place.split(".")[0])
+        if isinstance(obj, dict) and "fibre" in obj:
+            found.append((place, obj["fibre"]))
+    for place, value in found:
+        if not isinstance(value, str) or value not in FIBRES:
+            raise InputError(f"{place} must be one of {', '.join(FIBRES)}, got {_short(value)}", value=_short(value),
+                             where=where)
+    if len({value for _, value in found}) > 1:
+        (p0, v0), (p1, v1) = found[0], next(f for f in found if f[1] != found[0][1])
+        raise InputError(f"{p0} is {v0!r} but {p1} is {v1!r}: a problem places one fibre", value=[v0, v1], where=where)
+    layout = data.get("layout")
+    if found and not (isinstance(layout, dict) and layout.get("kind") == "instrument"):
+        kind = layout.get("kind") if isinstance(layout, dict) else "missing"
+        raise InputError(f"{found[0][0]}: only an instrument layout has named fibres (its robots carry several); "
+                         f"a {_short(kind)} layout's fibre is the arm's end", value=found[0][1], where=where)
+    return found[0][1] if found else None

@@ -38,10 +38,10 @@ from ..geometry.collision import DEFAULT_TOL, CollisionTables, colliding_pairs, 
 from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tables, unary_tables
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
 from ..geometry.layout import _short, layout_from_spec
-from .instrument import instrument_setup
+from .instrument import instrument_setup, problem_fibre
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
                      _unknown_fields)
-from .targets import parse_offline, parse_positions, robot_lattices, with_angles
+from .targets import parse_offline, parse_positions, radian_warnings, robot_lattices, with_angles
 from .unlock import unlock_lattices
 
 __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
@@ -323,7 +323,18 @@ def load_problem(path: str | Path, check_collisions: bool = True) -> Problem:
 
 
 def parse_problem(data: Any, where: str | None = None, check_collisions: bool = True) -> Problem:
-    """Validate a PROBLEM.json object (already decoded) into a :class:`Problem`."""
+    """Validate a PROBLEM.json object (already decoded) into a :class:`Problem`; an error about
+    angles that look like radians says so (:func:`~.targets.radian_warnings`)."""
+    try:
+        return _parse_problem(data, where, check_collisions)
+    except InputError as exc:
+        hint = radian_warnings(data, None) if type(exc) is InputError else []
+        if not hint:
+            raise
+        raise InputError(f"{exc.message} ({hint[0]})", value=exc.value, where=exc.where) from None
+
+
+def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Problem:
     if not isinstance(data, dict):
         raise FormatError(f"a problem must be a JSON object, got {_short(data)}", value=data, where=where)
     data = _apply_preset(data, where)
@@ -332,6 +343,9 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
     for key in ("layout", "start", "target") if instrument else ("layout", "kinematics", "collision", "start", "target"):
         if key not in data:
             raise FormatError(f"required field '{key}' is missing", value=None, where=where)
+    fibre = problem_fibre(data, where)  # one fibre, wherever it is named
+    if fibre is not None:
+        layout_spec = dict(layout_spec, fibre=fibre)
     setup = instrument_setup(layout_spec, data, where) if instrument else None
     bases = setup.bases if setup else layout_from_spec(layout_spec, where)
     n = len(bases)
@@ -372,7 +386,8 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
         layout = {"kind": "hex", "rings": int(layout_spec["rings"]), "pitch": float(layout_spec["pitch"])}
     extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
     problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
-                      _unknown_fields(data, where), robot_kinematics=robot_kins, margin=margin,
+                      _unknown_fields(data, where) + radian_warnings(data, where), robot_kinematics=robot_kins,
+                      margin=margin,
                       obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
                       obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},

@@ -36,7 +36,8 @@ from ..errors import FormatError, InputError
 from ..geometry.kinematics import AlphaBeta, Kinematics, exact_lattice
 from ..geometry.layout import _finite_number, _short
 
-__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "parse_offline", "with_angles", "robot_lattices"]
+__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "parse_offline", "with_angles", "robot_lattices",
+           "radian_warnings"]
 
 #: the object forms of a start or target (besides a list of indices)
 ANGLE_FORMS = ("alpha_beta_deg", "xy_mm")
@@ -57,10 +58,11 @@ def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.nd
         raise FormatError(f"{name} must be a list of {n} positions or an object with 'alpha_beta_deg' or "
                           f"'xy_mm', got {_short(value)}", value=value, where=where)
     forms = [k for k in ANGLE_FORMS if k in value]
-    extra = sorted(set(value) - set(ANGLE_FORMS) - {"handedness"})
+    extra = sorted(set(value) - set(ANGLE_FORMS) - {"handedness", "fibre"})  # "fibre": problem_fibre's
     if len(forms) != 1 or extra:
         raise FormatError(f"{name} must hold exactly one of 'alpha_beta_deg' or 'xy_mm' (and 'handedness' with "
-                          f"'xy_mm'), got the fields {sorted(value)}", value=sorted(value), where=where)
+                          f"'xy_mm', 'fibre'), got the fields {sorted(map(str, value))}", value=sorted(map(str, value)),
+                          where=where)
     if not isinstance(kin, AlphaBeta):
         raise InputError(f"{name}.{forms[0]} needs alpha-beta kinematics, got {kin.kind!r}", value=kin.kind,
                          where=where)
@@ -84,6 +86,27 @@ def parse_positions(value: Any, name: str, n: int, kin: Kinematics, bases: np.nd
                          where=where)
     return [_inverse(kin if robots is None else robots[i], np.asarray(xy, float) - bases[i], hand,
                      f"{name}.xy_mm[{i}]", xy, where) for i, xy in enumerate(rows)]
+
+
+def radian_warnings(data: Any, where: str | None) -> list[str]:
+    """A warning for each ``start``/``target`` whose ``alpha_beta_deg`` looks like radians.
+
+    The rule: every angle lies within ±2π, at least one is not a whole number and at least
+    one is not zero.  Degrees that look so are rare (every robot within 6.3° of α = 0 and of
+    β = 0), radians almost always do; the angles are still read as degrees.
+    """
+    out = []
+    for name in ("start", "target"):
+        value = data.get(name) if isinstance(data, dict) else None
+        rows = value.get("alpha_beta_deg") if isinstance(value, dict) else None
+        if not isinstance(rows, list) or not rows:
+            continue
+        x = np.array([v for r in rows if isinstance(r, list) for v in r if _finite_number(v)], dtype=float)
+        if len(x) and np.all(np.abs(x) <= 2 * math.pi) and np.any(x != np.round(x)) and np.any(x != 0):
+            prefix = f"{where}: " if where else ""
+            out.append(f"{prefix}{name}.alpha_beta_deg: every angle is within ±2π (largest |angle| "
+                       f"{float(np.abs(x).max()):.4g}) and some are fractional: radians? They are read as degrees")
+    return out
 
 
 def parse_offline(value: Any, n: int, kin: Kinematics, where: str | None,
