@@ -328,8 +328,9 @@ class ProgressLog:
         """The heartbeat: past ``interval`` seconds of silence, the last report again, with
         the time so far."""
         with self._lock:
-            # now, if the next beat would come too late: never more than ``interval`` silent
-            if self._body is not None and time.perf_counter() - self._shown + self._heartbeat.interval > self.interval:
+            # now if a later beat could come too late (a beat may itself be late by up to one
+            # interval on a busy machine): never more than ``interval`` silent
+            if self._body is not None and time.perf_counter() - self._shown + 2 * self._heartbeat.interval > self.interval:
                 self._emit(f"[{self._tracker.elapsed()}] {self._body}")
                 self._shown, self._pending = time.perf_counter(), None
 
