@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import re
 from pathlib import Path
 
 from .common import CommandResult, Console
@@ -114,7 +115,15 @@ def _run(args, console, study, database) -> CommandResult:
         raise InputError("give --workers (an embedded cluster) or --scheduler (an existing one), not both",
                          value=args.workers, where="--workers")
     command = "supcoord study " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else ""
-    summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=console.log,
+
+    def report(line: str) -> None:
+        """Each case's line, and the status line's count (``[ 12/40] …``), which its
+        heartbeat keeps alive while a long case runs."""
+        console.log(line)
+        counted = re.match(r"\[\s*(\d+)/(\d+)\]", line)
+        console.progress("study", {"done": int(counted[1]), "total": int(counted[2])} if counted else {})
+
+    summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=report,
                         version=args.code_version, retry=args.retry, any_version=args.any_version, command=command)
     payload = {"status": "interrupted" if summary.interrupted else "finished", **dataclasses.asdict(summary),
                "failed": summary.failed, "left": summary.left}
