@@ -44,6 +44,7 @@ import sys
 import threading
 import time
 import warnings
+import weakref
 from typing import IO, Any, Mapping
 
 __all__ = ["HEARTBEAT", "Heartbeat", "format_progress", "format_elapsed", "ProgressBar", "ProgressLog",
@@ -63,7 +64,8 @@ class Heartbeat:
     """
 
     def __init__(self, beat: Any, interval: float | None = None) -> None:
-        self.beat = beat
+        # a bound method is held weakly: a bar nobody closes ends its thread when it is dropped
+        self._beat = weakref.WeakMethod(beat) if hasattr(beat, "__self__") else (lambda: beat)
         self.interval = HEARTBEAT if interval is None else interval
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -76,8 +78,11 @@ class Heartbeat:
 
     def _run(self) -> None:
         while not self._stop.wait(self.interval):
+            beat = self._beat()
+            if beat is None:
+                return
             try:
-                self.beat()
+                beat()
             except Exception:  # noqa: BLE001 - a closed stream must not kill the work it reports on
                 return
 
