@@ -69,3 +69,17 @@ def test_the_legend_shows_the_fit_of_series_growth():
     labels = [t for t in ax.yaxis.get_majorticklabels() if t.get_text() and t.get_visible()]
     boxes = sorted((t.get_window_extent() for t in labels), key=lambda b: b.y0)
     assert all(a.y1 <= b.y0 for a, b in zip(boxes, boxes[1:])), "tick labels overlap"
+
+
+def test_study_show_reports_the_same_fit_as_the_legend():
+    from supcoord.cli.cmd_study import _growth
+
+    rows = [{"series": "solve rotary local", "status": "ok", "positioners": n, "seconds": 0.01 * n**1.5,
+             "peak_rss_mb": 65 + 0.19 * n, "bdd_nodes": None} for n in SIZES]
+    payload: dict = {}
+    lines = _growth(rows, payload)
+    fit = series_growth(rows, "seconds")["solve rotary local"]
+    assert payload["growth"]["seconds"]["solve rotary local"]["label"] == fit.label() == "∝ N^1.50"
+    assert payload["growth"]["peak_rss_mb"]["solve rotary local"]["model"] == "linear"
+    assert "  solve rotary local: ∝ N^1.50 (r² 1.00, 10 sizes)" in lines
+    assert payload["growth"]["bdd_nodes"] == {}

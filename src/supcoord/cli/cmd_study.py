@@ -161,7 +161,29 @@ def _show(args, console, study, database) -> CommandResult:
                         f"{len(study.cases) - done} left" + (f" ({skipped} skipped by skip_larger)" if skipped else ""))
     if rows:
         lines += ["", markdown_table(payload["series"])]
+        lines += _growth(rows, payload)
     return CommandResult(payload, "\n".join(lines))
+
+
+def _growth(rows: list[dict], payload: dict) -> list[str]:
+    """The fitted growth of each series (the figures' legends: ``series_growth``), as lines
+    and as ``payload["growth"][metric][series]``."""
+    from ..study.fit import series_growth
+    from ..study.plots import METRICS
+
+    lines, payload["growth"] = [], {}
+    for metric, (_, label, _) in METRICS.items():
+        fits = {name: g for name, g in series_growth(rows, metric).items() if g is not None}
+        payload["growth"][metric] = {name: {**dataclasses.asdict(g), "label": g.label(_unit(name))}
+                                     for name, g in fits.items()}
+        if fits:
+            lines += ["", f"fitted growth of {label} (every size of a series):"]
+            lines += [f"  {name}: {g.label(_unit(name))} (r² {g.r2:.2f}, {g.points} sizes)" for name, g in fits.items()]
+    return lines
+
+
+def _unit(series: str) -> str:
+    return "positioner" if series.startswith(("paper", "solve")) else "size step"
 
 
 def _export(args, console, study, database) -> CommandResult:
