@@ -7,7 +7,7 @@ fiducials and guide cameras, are drawn by :func:`.problem.draw_layout` in every 
   past :data:`OVERVIEW_ABOVE` robots instead of a strip of 500-arm panels: on the left the
   wok at the target, each robot coloured by the number of steps it moves (grey: never),
   its start fibre joined to its target fibre; on the right a per-robot timeline (one row
-  a robot, in order of its first move; a dark cell a step in which it moves) under the
+  a robot, in order of its first move; a blue cell a step in which it moves) under the
   count of robots moving in each step.
 """
 
@@ -18,6 +18,7 @@ from typing import Any, Callable
 
 import numpy as np
 from matplotlib.collections import LineCollection
+from matplotlib.colors import ListedColormap
 from matplotlib.lines import Line2D
 
 from ..problems.plan import Plan
@@ -101,7 +102,7 @@ def save_plan_overview(problem: Problem, plan: Plan, path: str | Path, dpi: int 
     first = np.where(moving.any(axis=1), moving.argmax(axis=1), T)
     order = np.lexsort((-steps_moved, first))
     if T:
-        line.imshow(moving[order], aspect="auto", interpolation="nearest", cmap="Greys",
+        line.imshow(moving[order], aspect="auto", interpolation="nearest", cmap=ListedColormap(["white", "C0"]),
                     extent=(0, T, len(order), 0))
     line.set_xlim(0, max(T, 1))
     line.set_xlabel("step")
