@@ -12,6 +12,7 @@ import supcoord as sc
 from supcoord.problems import parse_problem
 from supcoord.problems.plan import Plan
 from supcoord.study.execute import RunSummary
+from supcoord.study.spec import load_study
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "docs" / "examples"
 #: a repr is one short line, whatever the size of the object
@@ -48,7 +49,9 @@ def test_every_result_has_a_short_repr_and_html():
     run = sc.run_paper(30, 8)
     problem = sc.load_problem(EXAMPLES / "three_rotary.json")
     summary = RunSummary("quick", "quick.sqlite", "v", total=40, pending=12, ran=12, statuses={"ok": 11, "timeout": 1})
-    objects = [sc.random_instance(1000, 8), G, result, verdict, verdict.fixpoint, run, problem, sc.solve(problem), summary]
+    study = load_study(Path(__file__).resolve().parents[1] / "benchmarks" / "studies" / "readme.toml")
+    assert len(repr(study.cases[0])) < MAX_REPR
+    objects = [study, sc.random_instance(1000, 8), G, result, verdict, verdict.fixpoint, run, problem, sc.solve(problem), summary]
     for obj in objects:
         text = repr(obj)
         assert len(text) < MAX_REPR and "\n" not in text, text

@@ -369,7 +369,7 @@ def progress_bar(*, leave: bool = True, file: IO[str] | None = None) -> Progress
 
 
 def summary_repr(name: str, fields: Mapping[str, Any]) -> str:
-    """The short ``repr`` of a result: ``Name(key=value, …)``, each value cut to 40 characters,
+    """The short ``repr`` of a result: ``Name(key=value, …)``, each value cut to 60 characters,
     so a notebook shows a line, whatever the size of the object.
 
     >>> summary_repr("Plan", {"status": "complete", "positioners": 500, "makespan": 22})
@@ -378,7 +378,7 @@ def summary_repr(name: str, fields: Mapping[str, Any]) -> str:
     parts = []
     for k, v in fields.items():
         text = repr(v)
-        parts.append(f"{k}={text if len(text) <= 40 else text[:37] + '...'}")
+        parts.append(f"{k}={text if len(text) <= 60 else text[:57] + '...'}")
     return f"{name}({', '.join(parts)})"
 
 
