@@ -83,3 +83,18 @@ def test_the_log_repeats_its_last_report_while_nothing_reports():
     assert len(lines) >= 3 and all("figure | 3/40" in text for _, text in lines)
     stamps = [t for t, _ in lines]
     assert max(b - a for a, b in zip(stamps, stamps[1:])) <= MAX_GAP
+
+
+def test_the_notebook_bar_keeps_redrawing_during_a_long_step():
+    # what `supcoord.progress_bar()` draws in a notebook or script, without a terminal
+    from supcoord.progress import ProgressBar
+
+    out = Recorder(False)
+    with ProgressBar(file=out, auto=False) as bar:
+        bar("validate", {"steps": 12})
+        started = time.perf_counter()
+        time.sleep(2.5)  # one long step, no report
+        ended = time.perf_counter()
+    stamps = [started, *[t for t in out.times if started <= t <= ended], ended]
+    assert max(b - a for a, b in zip(stamps, stamps[1:])) <= MAX_GAP
+    assert "validate | steps 12 | 0:02" in out.getvalue()  # the clock moved on the redrawn line
