@@ -24,7 +24,7 @@ ALLOWED: dict[str, set[str]] = {
     "synthesis": {"des", "bdd", "errors", "progress"},
     "geometry": {"errors"},
     "instruments": {"geometry", "errors"},
-    "problems": {"geometry", "instruments", "errors", "outputs"},
+    "problems": {"geometry", "instruments", "errors", "outputs", "progress"},
     "paper": {"synthesis", "des", "bdd", "geometry", "errors", "progress", "outputs"},
     "planning": {"problems", "geometry", "synthesis", "des", "bdd", "errors", "progress"},
     "figures": {"problems", "geometry", "errors", "outputs"},

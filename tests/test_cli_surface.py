@@ -75,7 +75,10 @@ def one_json_object(out: str) -> dict:
 
 
 #: a line of the --verbose progress log: ``[m:ss] stage | iteration k | N nodes ...``
-PROGRESS_LINE = re.compile(r"\[\d+:\d\d(:\d\d)?\] \w+( #\d+)? \| (iteration|layer) [\d,]+ \| [\d,]+ nodes")
+#: a fixpoint's line (``[0:03] supcon | iteration 1 | 14,819 nodes …``) or a phase's
+#: (``[0:00] load | file problem.json``, ``[0:12] figure | 3/40 | file plan.gif``)
+PROGRESS_LINE = re.compile(r"\[\d+:\d\d(:\d\d)?\] \w+( #\d+)? \| ((iteration|layer) [\d,]+ \| [\d,]+ nodes"
+                           r"|([\d,]+/[\d,]+ \| )?[a-z_]+ \S)")
 
 
 def one_error_line(code: int, out: str, err: str, what: str = "") -> str:

@@ -136,3 +136,70 @@ def test_capsule_outline_is_at_buffer_distance():
     # every outline point is exactly 2 mm from the segment
     x = np.clip(outline[:, 0], 0, 10)
     assert np.allclose(np.hypot(outline[:, 0] - x, outline[:, 1]), 2.0)
+
+
+# -- wok scale: obstacles, titles, mm axes, the overview of a large plan -----------------------
+
+def _with_obstacles(problem_json):
+    data = copy.deepcopy(problem_json)
+    data["layout"]["obstacles"] = [{"xy": [0.0, 40.0], "buffer": 2.0},
+                                   {"segment": [[-30.0, -45.0], [30.0, -45.0]], "buffer": 3.0}]
+    return parse_problem(data)
+
+
+def test_fiducials_and_guide_cameras_are_drawn_and_named(tmp_path):
+    import matplotlib.pyplot as plt
+
+    from supcoord.figures.problem import plot_problem
+
+    problem = _with_obstacles(THREE)
+    ax = plot_problem(problem)
+    labels = {c.get_label() for c in ax.collections}
+    assert {"fiducial", "guide camera (GFA)"} <= labels
+    legend = {t.get_text() for t in ax.get_legend().get_texts()}
+    assert {"fiducial", "guide camera (GFA)"} <= legend
+    assert ax.get_xlabel() == "x (mm)" and ax.get_ylabel() == "y (mm)"
+    assert ax.get_ylim()[0] < -45 - 3  # the guide camera is in view
+    plt.close(ax.figure)
+
+
+def test_the_strip_names_the_plan_and_labels_mm(tmp_path, three, monkeypatch):
+    import matplotlib.figure
+
+    seen = []
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: seen.append(fig))
+    plan = _valid_plan(three)
+    save_plan_strip(three, plan, tmp_path / "s.png")
+    fig = seen[0]
+    title = fig._suptitle.get_text()
+    assert title.startswith("points, 3 robots: plan complete") and f"{plan.makespan} steps" in title
+    shown = [ax for ax in fig.axes if ax.get_visible() and ax.axison]
+    assert shown[0].get_ylabel() == "y (mm)" and shown[-1].get_xlabel() == "x (mm)"
+
+
+def test_a_large_plan_gets_one_overview_with_a_timeline(tmp_path, monkeypatch):
+    import matplotlib.figure
+
+    from supcoord.figures.plan import save_plan_figure
+    from supcoord.figures.wok import OVERVIEW_ABOVE
+
+    seen = []
+    original = matplotlib.figure.Figure.savefig
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: (seen.append(fig),
+                                                                                    original(fig, *a, **k)))
+    problem = preset_problem("sdss-v", rings=5, start="folded")
+    assert problem.n > OVERVIEW_ABOVE
+    confs = [problem.start.copy() for _ in range(4)]
+    confs[1][:10, 0] += 1  # robots 0-9 move in step 1, robots 10-19 in step 2, nobody in step 3
+    confs[2][:20, 0] += 1
+    confs[3] = confs[2].copy()
+    plan = Plan("complete", confs, lower_bound=2, motion_time_s=4.5)
+    reports = []
+    save_plan_figure(problem, plan, tmp_path / "o.png", progress=lambda stage, info: reports.append(info["done"]))
+    fig = seen[0]
+    assert fig._suptitle.get_text() == f"sdss-v, {problem.n} robots: plan complete, 3 steps (lower bound 2), motion 4.5 s"
+    wok, counts, timeline = fig.axes[0], fig.axes[2], fig.axes[3]
+    assert wok.get_xlabel() == "x (mm)" and timeline.get_xlabel() == "step"
+    assert [round(p.get_height()) for p in counts.patches] == [10, 10, 0]
+    assert reports == [0, 1, 2, 3]
+    assert Image.open(tmp_path / "o.png").size[0] >= 1200

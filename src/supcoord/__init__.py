@@ -243,7 +243,8 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    """The public API (``__all__``): not the helpers this module imports for itself."""
+    return list(__all__)
 
 
 if TYPE_CHECKING:  # static type checkers and IDEs see the real objects

@@ -21,6 +21,13 @@ This module turns those calls into something a person can read:
   iteration); for logs, CI and files.
 - :func:`progress_bar` — the helper for notebooks and scripts.
 
+Both keep talking during a long single step: a heartbeat thread (:class:`Heartbeat`,
+every :data:`HEARTBEAT` seconds) redraws the status line with the time so far, and the
+log repeats its last line every ``interval`` seconds, so neither is silent for more than
+about 2 s while the interpreter runs.  (A single BDD or numpy operation that holds the
+interpreter holds the heartbeat too.)  Phases that know how far along they are report
+``done`` and ``total``, shown as ``done/total``.
+
 >>> import io, supcoord as sc
 >>> log = sc.ProgressLog(io.StringIO(), interval=0)
 >>> log("supcon", {"nodes": 1200, "iteration": 1, "z_nodes": 300})
@@ -34,14 +41,56 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 import time
 import warnings
+import weakref
 from typing import IO, Any, Mapping
 
-__all__ = ["format_progress", "format_elapsed", "ProgressBar", "ProgressLog", "progress_bar"]
+__all__ = ["HEARTBEAT", "Heartbeat", "format_progress", "format_elapsed", "ProgressBar", "ProgressLog",
+           "progress_bar"]
 
 #: the keys shown in a fixed place; any other key is shown as ``key value`` after them
-_PLACED = ("nodes", "iteration", "method")
+_PLACED = ("nodes", "iteration", "method", "done", "total")
+#: seconds between two heartbeats of a status line or a log (redraws during a long step)
+HEARTBEAT = 0.5
+
+
+class Heartbeat:
+    """A daemon thread calling ``beat()`` every ``interval`` seconds until :meth:`stop`.
+
+    Started on demand (:meth:`start` is idempotent), so an object that never reports
+    never starts a thread.  ``beat`` runs in the thread: it must take its own locks.
+    """
+
+    def __init__(self, beat: Any, interval: float | None = None) -> None:
+        # a bound method is held weakly: a bar nobody closes ends its thread when it is dropped
+        self._beat = weakref.WeakMethod(beat) if hasattr(beat, "__self__") else (lambda: beat)
+        self.interval = HEARTBEAT if interval is None else interval
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self) -> None:
+        if self._thread is None and self.interval > 0:
+            self._stop.clear()
+            self._thread = threading.Thread(target=self._run, name="supcoord-heartbeat", daemon=True)
+            self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.interval):
+            beat = self._beat()
+            if beat is None:
+                return
+            try:
+                beat()
+            except Exception:  # noqa: BLE001 - a closed stream must not kill the work it reports on
+                return
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=5)
+        self._thread = None
 
 
 def format_elapsed(seconds: float) -> str:
@@ -72,8 +121,12 @@ def format_progress(stage: str, info: Mapping[str, Any], *, run: int = 1, peak: 
     'force | layer 4 | 19,137 nodes (peak 20,000) | layer_nodes 601'
     >>> format_progress("layers", {"nodes": 47133, "iteration": 0, "members": 4}, run=312)
     'layers #312 | iteration 0 | 47,133 nodes | members 4'
+    >>> format_progress("figure", {"done": 3, "total": 40, "frames": "plan.gif"})
+    'figure | 3/40 | frames plan.gif'
     """
     parts = [stage if run <= 1 else f"{stage} #{run}"]
+    if "done" in info:
+        parts.append(f"{_number(info['done'])}/{_number(info['total'])}" if "total" in info else _number(info["done"]))
     if "iteration" in info:
         parts.append(f"{'layer' if stage == 'force' else 'iteration'} {_number(info['iteration'])}")
     if "nodes" in info:
@@ -163,7 +216,10 @@ class ProgressBar:
         self._bar: Any = None
         self._shown = 0.0
         self._text = ""
+        self._body = ""
         self._width: int | None = None
+        self._lock = threading.RLock()
+        self._heartbeat = Heartbeat(self._beat)
 
     def _make(self) -> Any:
         if self.auto:
@@ -186,28 +242,42 @@ class ProgressBar:
         self._bar.set_description_str(text, refresh=True)
 
     def __call__(self, stage: str, info: Mapping[str, Any]) -> None:
-        new_stage, _ = self._tracker.update(stage, info)
-        self._text = f"{self._tracker.text(stage, info)} | {self._tracker.elapsed()}"
-        if self._bar is None:
-            self._bar = self._make()
-        now = time.perf_counter()
-        if new_stage or now - self._shown >= self.mininterval:
-            self._show()
-            self._shown = now
+        with self._lock:
+            new_stage, _ = self._tracker.update(stage, info)
+            self._body = self._tracker.text(stage, info)
+            self._text = f"{self._body} | {self._tracker.elapsed()}"
+            if self._bar is None:
+                self._bar = self._make()
+            now = time.perf_counter()
+            if new_stage or now - self._shown >= self.mininterval:
+                self._show()
+                self._shown = now
+        self._heartbeat.start()
+
+    def _beat(self) -> None:
+        """The heartbeat: the last report again, with the time so far."""
+        with self._lock:
+            if self._bar is not None and time.perf_counter() - self._shown >= self._heartbeat.interval:
+                self._text = f"{self._body} | {self._tracker.elapsed()}"
+                self._show()
+                self._shown = time.perf_counter()
 
     def write(self, line: str) -> None:
         """Print ``line`` above the status line (which is redrawn below it)."""
-        if self._bar is None:
-            print(line, file=self.file if self.file is not None else sys.stderr)
-        else:
-            self._bar.write(line, file=self.file if self.file is not None else sys.stderr)
+        with self._lock:
+            if self._bar is None:
+                print(line, file=self.file if self.file is not None else sys.stderr)
+            else:
+                self._bar.write(line, file=self.file if self.file is not None else sys.stderr)
 
     def close(self) -> None:
-        if self._bar is not None:
-            if self.leave:
-                self._show()
-            self._bar.close()
-            self._bar = None
+        self._heartbeat.stop()
+        with self._lock:
+            if self._bar is not None:
+                if self.leave:
+                    self._show()
+                self._bar.close()
+                self._bar = None
 
     def __enter__(self) -> "ProgressBar":
         return self
@@ -233,6 +303,9 @@ class ProgressLog:
         self._tracker = _Tracker(started)
         self._shown = float("-inf")
         self._pending: str | None = None  # the last report of the current run, if not shown
+        self._body: str | None = None  # the last report, without its time
+        self._lock = threading.RLock()
+        self._heartbeat = Heartbeat(self._beat, min(HEARTBEAT, interval) if interval > 0 else 0)
 
     def _emit(self, text: str) -> None:
         if self._write is not None:
@@ -241,22 +314,37 @@ class ProgressLog:
             print(text, file=self.file if self.file is not None else sys.stderr, flush=True)
 
     def __call__(self, stage: str, info: Mapping[str, Any]) -> None:
-        new_stage, _ = self._tracker.update(stage, info)
-        text = f"[{self._tracker.elapsed()}] {self._tracker.text(stage, info)}"
-        now = time.perf_counter()
-        if new_stage and self._pending is not None:
-            self._emit(self._pending)  # how the previous stage ended
-            self._pending = None
-        if new_stage or now - self._shown >= self.interval:
-            self._emit(text)
-            self._shown, self._pending = now, None
-        else:
-            self._pending = text
+        with self._lock:
+            new_stage, _ = self._tracker.update(stage, info)
+            self._body = self._tracker.text(stage, info)
+            text = f"[{self._tracker.elapsed()}] {self._body}"
+            now = time.perf_counter()
+            if new_stage and self._pending is not None:
+                self._emit(self._pending)  # how the previous stage ended
+                self._pending = None
+            if new_stage or now - self._shown >= self.interval:
+                self._emit(text)
+                self._shown, self._pending = now, None
+            else:
+                self._pending = text
+        self._heartbeat.start()
+
+    def _beat(self) -> None:
+        """The heartbeat: past ``interval`` seconds of silence, the last report again, with
+        the time so far."""
+        with self._lock:
+            # now if a later beat could come too late (a beat may itself be late by up to one
+            # interval on a busy machine): never more than ``interval`` silent
+            if self._body is not None and time.perf_counter() - self._shown + 2 * self._heartbeat.interval > self.interval:
+                self._emit(f"[{self._tracker.elapsed()}] {self._body}")
+                self._shown, self._pending = time.perf_counter(), None
 
     def close(self) -> None:
-        if self._pending is not None:
-            self._emit(self._pending)
-            self._pending = None
+        self._heartbeat.stop()
+        with self._lock:
+            if self._pending is not None:
+                self._emit(self._pending)
+                self._pending = None
 
     def __enter__(self) -> "ProgressLog":
         return self
@@ -278,3 +366,27 @@ def progress_bar(*, leave: bool = True, file: IO[str] | None = None) -> Progress
     1
     """
     return ProgressBar(file=file, auto=True, leave=leave)
+
+
+def summary_repr(name: str, fields: Mapping[str, Any]) -> str:
+    """The short ``repr`` of a result: ``Name(key=value, …)``, each value cut to 60 characters,
+    so a notebook shows a line, whatever the size of the object.
+
+    >>> summary_repr("Plan", {"status": "complete", "positioners": 500, "makespan": 22})
+    "Plan(status='complete', positioners=500, makespan=22)"
+    """
+    parts = []
+    for k, v in fields.items():
+        text = repr(v)
+        parts.append(f"{k}={text if len(text) <= 60 else text[:57] + '...'}")
+    return f"{name}({', '.join(parts)})"
+
+
+def summary_html(name: str, fields: Mapping[str, Any]) -> str:
+    """The ``_repr_html_`` of a result: its name over a two-column table of ``fields``."""
+    from html import escape
+
+    rows = "".join(f"<tr><th style='text-align:left'>{escape(str(k))}</th><td style='text-align:left'>"
+                   f"{escape(_number(v) if len(str(v)) <= 200 else str(v)[:197] + '...')}</td></tr>"
+                   for k, v in fields.items())
+    return f"<table><caption style='text-align:left'><b>{escape(name)}</b></caption>{rows}</table>"

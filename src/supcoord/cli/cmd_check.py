@@ -88,10 +88,13 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         raise InputError(f"must be a number of mm in [{lo:g}, {hi:g}], got {args.resolution}",
                          value=args.resolution, where="--resolution")
     figure_suffix(args.figure, [args.problem, args.plan])
+    console.progress("load", {"file": args.problem})
     problem = _load_problem(args.problem, args.plan)
+    console.progress("load", {"file": args.plan})
     plan = load_plan(args.plan, problem)
     for warning in problem.warnings:
         console.warn(warning)
+    console.progress("validate", {"steps": max(len(plan.configurations) - 1, 0)})
     result = validate_plan(problem, plan, resolution=args.resolution)
     if args.figure:
         from ..figures.plan import save_plan_figure
@@ -99,7 +102,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         drawn = dict(result, incidents=[i for i in result["incidents"] if len(i["positioners"]) == 2]
                      if plan.configurations else [])
         with as_option("--figure"):
-            save_plan_figure(problem, plan, args.figure, drawn)
+            save_plan_figure(problem, plan, args.figure, drawn, progress=console.progress)
     verdict = "VALID" if result["valid"] else "INVALID"
     lines = [f"{verdict}: {result['steps']} steps, {result['collisions']} collisions, "
              f"{result['at_target']}/{problem.n} positioners at target"]

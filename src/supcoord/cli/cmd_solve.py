@@ -134,6 +134,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         for other, there in outputs[i + 1:]:
             if path == there:
                 raise InputError(f"{flag} and {other} name the same file", value=str(path), where=flag)
+    console.progress("load", {"file": args.problem})
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
@@ -152,7 +153,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         from ..figures.plan import save_plan_figure
 
         with as_option("--figure"):
-            save_plan_figure(problem, plan, args.figure)
+            save_plan_figure(problem, plan, args.figure, progress=console.progress)
     s = plan.stats
     if plan.status == "complete":
         text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "

@@ -23,6 +23,7 @@ import argparse
 import contextlib
 import dataclasses
 from collections.abc import Iterator
+import re
 from pathlib import Path
 
 from .common import CommandResult, Console
@@ -116,7 +117,15 @@ def _run(args, console, study, database) -> CommandResult:
         raise InputError("give --workers (an embedded cluster) or --scheduler (an existing one), not both",
                          value=args.workers, where="--workers")
     command = "supcoord study " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else ""
-    summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=console.log,
+
+    def report(line: str) -> None:
+        """Each case's line, and the status line's count (``[ 12/40] …``), which its
+        heartbeat keeps alive while a long case runs."""
+        console.log(line)
+        counted = re.match(r"\[\s*(\d+)/(\d+)\]", line)
+        console.progress("study", {"done": int(counted[1]), "total": int(counted[2])} if counted else {})
+
+    summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=report,
                         version=args.code_version, retry=args.retry, any_version=args.any_version, command=command)
     payload = {"status": "interrupted" if summary.interrupted else "finished", **dataclasses.asdict(summary),
                "failed": summary.failed, "left": summary.left}
@@ -154,7 +163,29 @@ def _show(args, console, study, database) -> CommandResult:
                         f"{len(study.cases) - done} left" + (f" ({skipped} skipped by skip_larger)" if skipped else ""))
     if rows:
         lines += ["", markdown_table(payload["series"])]
+        lines += _growth(rows, payload)
     return CommandResult(payload, "\n".join(lines))
+
+
+def _growth(rows: list[dict], payload: dict) -> list[str]:
+    """The fitted growth of each series (the figures' legends: ``series_growth``), as lines
+    and as ``payload["growth"][metric][series]``."""
+    from ..study.fit import series_growth
+    from ..study.plots import METRICS
+
+    lines, payload["growth"] = [], {}
+    for metric, (_, label, _) in METRICS.items():
+        fits = {name: g for name, g in series_growth(rows, metric).items() if g is not None}
+        payload["growth"][metric] = {name: {**dataclasses.asdict(g), "label": g.label(_unit(name))}
+                                     for name, g in fits.items()}
+        if fits:
+            lines += ["", f"fitted growth of {label} (every size of a series):"]
+            lines += [f"  {name}: {g.label(_unit(name))} (r² {g.r2:.2f}, {g.points} sizes)" for name, g in fits.items()]
+    return lines
+
+
+def _unit(series: str) -> str:
+    return "positioner" if series.startswith(("paper", "solve")) else "size step"
 
 
 def _export(args, console, study, database) -> CommandResult:

@@ -27,10 +27,11 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterable, Mapping
+from typing import Any, Iterable, Mapping
 
 from ..bdd.context import BDD, Context
 from ..errors import InputError
+from ..progress import summary_html
 from .generator import Event, Generator
 
 __all__ = ["EventRelation", "SymbolicGenerator", "from_explicit", "to_explicit"]
@@ -157,8 +158,15 @@ class SymbolicGenerator:
     def pick(self, states: BDD) -> dict[str, int] | None:
         return self.ctx.pick(states & self.invariant, self.variables)
 
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: name, numbers of variables and events (never a BDD)."""
+        return {"name": self.name, "variables": len(self.variables), "events": len(self.events)}
+
     def __repr__(self) -> str:
         return f"SymbolicGenerator({self.name!r}, variables={len(self.variables)}, events={len(self.events)})"
+
+    def _repr_html_(self) -> str:
+        return summary_html("SymbolicGenerator", self.summary())
 
 
 def from_explicit(ctx: Context, g: Generator, var: str | None = None) -> SymbolicGenerator:

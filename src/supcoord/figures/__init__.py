@@ -6,6 +6,7 @@ this package imports matplotlib.
 """
 
 from .plan import interpolate_plan, save_incidents_figure, save_plan_figure, save_plan_gif, save_plan_strip
+from .wok import plan_title, save_plan_overview
 from .problem import (
     add_legend,
     arms,
@@ -27,10 +28,12 @@ __all__ = [
     "interpolate_plan",
     "plot_configuration",
     "plot_problem",
+    "plan_title",
     "plot_target",
     "save_incidents_figure",
     "save_plan_figure",
     "save_plan_gif",
+    "save_plan_overview",
     "save_plan_strip",
     "save_problem_figure",
 ]

@@ -14,14 +14,15 @@ so drawing an invalid plan shows where it fails.
   moved), the first and last frames held longer;
 - :func:`save_incidents_figure`: one zoomed panel per collision incident of
   :func:`~supcoord.problems.validate.validate_plan` (the pose at the incident's time, the pair in red);
-- :func:`save_plan_figure`: what ``supcoord solve/check --figure FILE`` writes.
+- :func:`save_plan_figure`: what ``supcoord solve/check --figure FILE`` writes (past
+  :data:`~.wok.OVERVIEW_ABOVE` robots, the overview of :mod:`.wok` instead of the strip).
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -46,6 +47,7 @@ from .problem import (
     plt,
     save_figure,
 )
+from .wok import OVERVIEW_ABOVE, plan_title, save_plan_overview
 
 __all__ = ["interpolate_plan", "save_plan_strip", "save_plan_gif", "save_incidents_figure", "save_plan_figure",
            "MAX_GIF_FRAMES"]
@@ -86,8 +88,9 @@ def checked(problem: Problem, plan: Plan) -> None:
 
 
 def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: int = 8, dpi: int = 100,
-                    columns: int = 4) -> Path:
-    """Evenly spaced configurations of the plan (first and last included), ``columns`` panels a row."""
+                    columns: int = 4, progress: Callable[[str, dict], None] | None = None) -> Path:
+    """Evenly spaced configurations of the plan (first and last included), ``columns`` panels a
+    row, under a title naming the instrument and the plan; ``progress`` hears of each panel."""
     checked(problem, plan)
     confs = plan.configurations or [problem.start]
     idx = np.unique(np.linspace(0, len(confs) - 1, min(max_frames, len(confs))).round().astype(int))
@@ -95,31 +98,37 @@ def save_plan_strip(problem: Problem, plan: Plan, path: str | Path, max_frames: 
     rows = math.ceil(len(idx) / cols)
     w, h = _figsize(problem, 2.6)
     w, h = min(w, 4.5), min(h, 4.5)
-    fig, axes = plt.subplots(rows, cols, figsize=(w * cols, h * rows + 0.6), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(w * cols, h * rows + 1.0), squeeze=False)
     hit_any = False
-    for ax, k in zip(axes.ravel(), idx):
+    for i, (ax, k) in enumerate(zip(axes.ravel(), idx)):
+        if progress is not None:
+            progress("figure", {"done": i, "total": len(idx), "file": str(path)})
         q = np.asarray(confs[k])
         hits = _colliding(problem, q)
         hit_any |= bool(hits)
         draw_layout(ax, problem, f"step {k} of {len(confs) - 1}", numbers=problem.n <= 40)
         plot_target(ax, problem)
         plot_configuration(ax, problem, q, highlight=hits)
-        ax.set_xlabel("")
-        ax.set_ylabel("")
+        if i % cols:  # mm labels on the first column and the last row only
+            ax.set_ylabel("")
+        if i < len(idx) - cols:
+            ax.set_xlabel("")
     for ax in axes.ravel()[len(idx):]:
         ax.set_axis_off()
+    fig.suptitle(plan_title(problem, plan), fontsize=10)
     fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))  # the legend's row at the bottom
-    add_legend(fig, problem.kinematics.kind, ["collision"] if hit_any else [], loc="lower center", ncol=7,
+    add_legend(fig, problem.kinematics.kind, ["collision"] if hit_any else [], problem, loc="lower center", ncol=9,
                frameon=False)
     return save_figure(fig, path, dpi, tight=False)
 
 
 def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int = 4, fps: int = 10,
-                  dpi: int = 80, hold: float = 0.8) -> Path:
+                  dpi: int = 80, hold: float = 0.8, progress: Callable[[str, dict], None] | None = None) -> Path:
     """An animated GIF of the plan, ``substeps`` interpolated frames a step (module docstring).
 
     Positioners colliding in a frame are red.  ``hold`` seconds on the first and the last
-    frame.  Plans longer than :data:`MAX_GIF_FRAMES` frames get fewer substeps.
+    frame.  Plans longer than :data:`MAX_GIF_FRAMES` frames get fewer substeps.  ``progress``
+    hears of each frame drawn.
     """
     checked(problem, plan)
     from PIL import Image
@@ -138,8 +147,9 @@ def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int 
     art = plot_configuration(ax, problem, frames[0])
     box = ax.get_position()
     title = fig.text((box.x0 + box.x1) / 2, box.y1 + 0.01, " ", ha="center", va="bottom", fontsize=9)
-    add_legend(ax, kin.kind, ["collision"], loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
-               fontsize=6)
+    add_legend(ax, kin.kind, ["collision"], problem, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+               borderaxespad=0.0, fontsize=6)
+    fig.text(0.01, 0.995, plan_title(problem, plan), ha="left", va="top", fontsize=8)
     dynamic = [a for a in (art.get("links"), art["capsules"], art["segments"], art["fibres"], title) if a is not None]
 
     def render(q: np.ndarray, label: str, red: set[int] | None = None) -> Image.Image:
@@ -175,8 +185,12 @@ def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int 
     swatch.paste(red, (first.width, 0))
     palette = swatch.quantize(colors=96, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
     total = (len(frames) - 1) / substeps
-    images = [render(q, f"step {i / substeps:.2f} of {total:g}").quantize(palette=palette, dither=Image.Dither.NONE)
-              for i, q in enumerate(frames)]
+    images = []
+    for i, q in enumerate(frames):
+        if progress is not None:
+            progress("figure", {"done": i, "total": len(frames), "file": str(path)})
+        images.append(render(q, f"step {i / substeps:.2f} of {total:g}").quantize(palette=palette,
+                                                                                 dither=Image.Dither.NONE))
     plt.close(fig)
     ms = int(round(1000 / fps))
     durations = [ms] * len(images)
@@ -225,13 +239,17 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], 
     return save_figure(fig, path, dpi, tight=False)
 
 
-def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dict[str, Any] | None = None) -> Path:
+def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dict[str, Any] | None = None,
+                     progress: Callable[[str, dict], None] | None = None) -> Path:
     """The ``--figure`` of ``supcoord solve``/``check``, by extension and by what there is to show.
 
     ``.gif``: the animation (a plan with configurations); otherwise a strip of frames, or
     — given a validator ``result`` with collisions — the incidents.  A plan without
     configurations (infeasible, unknown) draws the problem, the positioners of an
-    infeasibility certificate (``stats["certificate"]``) in orange.
+    infeasibility certificate (``stats["certificate"]``) in orange.  Past
+    :data:`~.wok.OVERVIEW_ABOVE` robots a still figure is the overview
+    (:func:`~.wok.save_plan_overview`) instead of the strip.  ``progress(stage, info)`` hears
+    how far the drawing is (``done`` of ``total`` frames or panels).
     """
     checked(problem, plan)
     suffix = Path(path).suffix.lower()
@@ -246,7 +264,9 @@ def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dic
     if plan.lattice is not None and tuple(plan.lattice) != problem.kinematics.shape:
         problem = at_lattice(problem, plan.lattice)  # planned on a finer lattice (supcoord.problems.refine)
     if suffix == ".gif":
-        return save_plan_gif(problem, plan, path)
+        return save_plan_gif(problem, plan, path, progress=progress)
     if result is not None and result.get("incidents"):
         return save_incidents_figure(problem, plan, result, path)
-    return save_plan_strip(problem, plan, path)
+    if problem.n > OVERVIEW_ABOVE:
+        return save_plan_overview(problem, plan, path, progress=progress)
+    return save_plan_strip(problem, plan, path, progress=progress)

@@ -44,7 +44,7 @@ from ..problems.consistency import check_problem  # noqa: E402
 from ..problems.problem import Problem  # noqa: E402
 
 __all__ = ["capsule", "capsules", "arms", "plot_configuration", "plot_target", "plot_problem", "save_problem_figure", "draw_layout", "add_legend",
-           "save_figure", "new_figure", "FIGURE_SUFFIXES", "COLORS"]
+           "save_figure", "new_figure", "draw_obstacles", "obstacle_handles", "FIGURE_SUFFIXES", "COLORS"]
 
 #: the colours of the visual language (module docstring)
 COLORS = {"arm": "C0", "target": "C2", "collision": "C3", "certificate": "C1", "alpha": "0.25", "disc": "0.82"}
@@ -52,6 +52,8 @@ COLORS = {"arm": "C0", "target": "C2", "collision": "C3", "certificate": "C1", "
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".gif")
 #: positioner numbers are drawn up to this many positioners
 MAX_NUMBERED = 200
+#: obstacle colours: fiducials (points) and guide cameras (segments)
+OBSTACLE = {"fiducial": "0.15", "gfa": "0.45"}
 
 
 def capsule(p0: Any, p1: Any, radius: float, n: int = 12) -> np.ndarray:
@@ -112,7 +114,8 @@ def plot_configuration(ax: Any, problem: Problem, positions: Any, *, color: str 
 
 def draw_layout(ax: Any, problem: Problem, title: str | None = None, numbers: bool | None = None,
                 focus: Any = None) -> None:
-    """Patrol discs, bases and their numbers, equal axes in mm; ``focus`` = indices to zoom on."""
+    """Patrol discs, bases and their numbers, fixed obstacles (:func:`draw_obstacles`), equal
+    axes in mm; ``focus`` = indices to zoom on."""
     bases, reach = problem.bases, problem.kinematics.reach
     ax.add_collection(PatchCollection([Circle(b, reach) for b in bases], facecolors="none",
                                       edgecolors=COLORS["disc"], linewidths=0.6))
@@ -120,12 +123,17 @@ def draw_layout(ax: Any, problem: Problem, title: str | None = None, numbers: bo
     pad = reach + float(problem.buffers.max(initial=0.0)) + 1.0
     shown = bases if focus is None or len(focus) == 0 else bases[np.asarray(list(focus), int)]
     lo, hi = shown.min(axis=0) - pad, shown.max(axis=0) + pad
+    obs = np.asarray(problem.obstacles, float).reshape(-1, 2)
+    if (focus is None or len(focus) == 0) and len(obs):  # the whole layout: its obstacles in view too
+        margin = float(np.max(problem.obstacle_buffers, initial=0.0)) + 1.0
+        lo, hi = np.minimum(lo, obs.min(axis=0) - margin), np.maximum(hi, obs.max(axis=0) + margin)
     if numbers is None:
         numbers = problem.n <= MAX_NUMBERED
     if numbers:
         inside = np.all((bases >= lo - pad) & (bases <= hi + pad), axis=1)
         for p in np.nonzero(inside)[0]:
             ax.annotate(str(p), bases[p], textcoords="offset points", xytext=(2, -8), fontsize=6, color="0.3")
+    draw_obstacles(ax, problem)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
@@ -135,6 +143,44 @@ def draw_layout(ax: Any, problem: Problem, title: str | None = None, numbers: bo
         ax.set_title(title, fontsize=9)
 
 
+def _kinds(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """Masks of the point obstacles (fiducials) and segment obstacles (guide cameras)."""
+    obs = np.asarray(problem.obstacles, float).reshape(-1, 2, 2)
+    points = np.all(np.isclose(obs[:, 0], obs[:, 1]), axis=1)
+    return points, ~points
+
+
+def draw_obstacles(ax: Any, problem: Problem) -> dict[str, Any]:
+    """Draw the fixed obstacles with their buffers (module docstring); the artists by kind."""
+    obs = np.asarray(problem.obstacles, float).reshape(-1, 2, 2)
+    if not len(obs):
+        return {}
+    buffers = np.asarray(problem.obstacle_buffers, float)
+    points, segments = _kinds(problem)
+    out: dict[str, Any] = {}
+    if points.any():
+        out["fiducials"] = ax.add_collection(PatchCollection(
+            [Circle(o[0], r) for o, r in zip(obs[points], buffers[points])], facecolors="0.85",
+            edgecolors=OBSTACLE["fiducial"], linewidths=0.5, zorder=1, label="fiducial"))
+        ax.plot(obs[points, 0, 0], obs[points, 0, 1], ".", color=OBSTACLE["fiducial"], ms=2.5, zorder=2)
+    if segments.any():
+        out["gfas"] = ax.add_collection(PolyCollection(
+            [capsule(o[0], o[1], r) for o, r in zip(obs[segments], buffers[segments])], facecolors="0.7",
+            edgecolors=OBSTACLE["gfa"], linewidths=0.8, zorder=1, label="guide camera (GFA)"))
+    return out
+
+
+def obstacle_handles(problem: Problem) -> list[Line2D]:
+    """Legend entries for the obstacles the problem has."""
+    points, segments = _kinds(problem)
+    out = []
+    if points.any():
+        out.append(Line2D([], [], color=OBSTACLE["fiducial"], marker="o", mfc="0.85", ls="", label="fiducial"))
+    if segments.any():
+        out.append(Line2D([], [], color="0.7", lw=5, solid_capstyle="round", label="guide camera (GFA)"))
+    return out
+
+
 def plot_target(ax: Any, problem: Problem) -> None:
     """The target: dashed faint arms and capsules, and a green × at each target fibre position."""
     plot_configuration(ax, problem, problem.target, color=COLORS["target"], linestyle="--", alpha=0.12)
@@ -142,8 +188,10 @@ def plot_target(ax: Any, problem: Problem) -> None:
     ax.plot(fibres[:, 0], fibres[:, 1], "x", color=COLORS["target"], markersize=5, mew=1.2, zorder=4)
 
 
-def add_legend(target: Any, kind: str, extra: Iterable[str] = (), **kwargs: Any) -> Any:
-    """Legend of the visual language on an axes or a figure; ``extra`` ⊆ {"collision", "certificate"}."""
+def add_legend(target: Any, kind: str, extra: Iterable[str] = (), problem: Problem | None = None,
+               **kwargs: Any) -> Any:
+    """Legend of the visual language on an axes or a figure; ``extra`` ⊆ {"collision", "certificate"};
+    with ``problem``, its kinds of fixed obstacles too."""
     beta = "beta arm" if kind == "alpha-beta" else "arm"
     handles = [Line2D([], [], color=COLORS["arm"], lw=5, alpha=0.45, solid_capstyle="round",
                       label=f"{beta} + buffer (capsule)")]
@@ -156,6 +204,8 @@ def add_legend(target: Any, kind: str, extra: Iterable[str] = (), **kwargs: Any)
     names = {"collision": "in collision", "certificate": "cannot all reach target"}
     for key in extra:
         handles.append(Line2D([], [], color=COLORS[key], lw=5, alpha=0.6, solid_capstyle="round", label=names[key]))
+    if problem is not None:
+        handles += obstacle_handles(problem)
     kwargs.setdefault("fontsize", 7)
     return target.legend(handles=handles, **kwargs)
 
@@ -191,14 +241,16 @@ def plot_problem(problem: Problem, ax: Any = None, *, show_target: bool = True, 
     check_problem(problem)
     if ax is None:
         _, ax = new_figure(problem)
-    draw_layout(ax, problem, title or f"{problem.n} positioners, {problem.kinematics.kind}: start and target")
+    name = (problem.layout or {}).get("name") if isinstance(problem.layout, dict) else None
+    draw_layout(ax, problem, title or f"{name + ', ' if name else ''}{problem.n} positioners, "
+                f"{problem.kinematics.kind}: start and target")
     if show_target:
         plot_target(ax, problem)
     plot_configuration(ax, problem, problem.start, highlight=highlight)
     if legend:
         values = highlight.values() if isinstance(highlight, dict) else [COLORS["collision"]] * len(list(highlight))
         extra = [k for k in ("collision", "certificate") if COLORS[k] in set(values)]
-        add_legend(ax, problem.kinematics.kind, extra, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+        add_legend(ax, problem.kinematics.kind, extra, problem, loc="upper left", bbox_to_anchor=(1.02, 1.0),
                    borderaxespad=0.0)
     return ax
 

@@ -49,6 +49,7 @@ from ..des import symbolic_ops as SO
 from ..des.generator import Generator
 from ..des.symbolic import EventRelation, SymbolicGenerator
 from ..errors import InputError
+from ..progress import summary_html, summary_repr
 from ..geometry.layout import hex_count, hex_grid
 
 # Table 1's numbering lives in .events; its names stay importable from here
@@ -140,6 +141,17 @@ class PaperInstance:
             for i, p in enumerate(getattr(self, name)):
                 if isinstance(p, bool) or not isinstance(p, int) or not 0 <= p < n:
                     raise InputError(f"{name}[{i}] = {p!r} outside 0..{n - 1}", value=p, where=name)
+
+    def summary(self) -> dict:
+        """What a notebook shows: positioners, steps, start, target, priority (long ones cut)."""
+        return {"positioners": len(self.start), "steps": self.steps, "start": self.start, "target": self.target,
+                "priority": self.priority}
+
+    def __repr__(self) -> str:
+        return summary_repr("PaperInstance", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("PaperInstance", self.summary())
 
     @property
     def size(self) -> int:

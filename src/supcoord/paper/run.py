@@ -53,6 +53,7 @@ from ..bdd.context import Context
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
 from ..synthesis import CCCResult, SupconResult, accessible_part, ccc, supcon
+from ..progress import summary_html, summary_repr
 from .coupled import CoupledModel, Geometry, coupled_models
 from .literal import PaperInstance, hex_neighbours, hex_sites, literal_models, random_instance
 from .modular import literal_modular
@@ -92,6 +93,24 @@ class PaperRun:
     @property
     def supervisor(self) -> SymbolicGenerator | None:
         return None if self.supcon is None else self.supcon.supervisor
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: model, route, size, the verdict and the supervisor's numbers."""
+        out: dict[str, Any] = {"model": self.model, "route": self.route}
+        for key in ("positioners", "steps", "seed"):
+            if key in self.payload:
+                out[key] = self.payload[key]
+        out["forcible"] = getattr(self.ccc, "forcible", None)
+        out["rank"] = getattr(self.ccc, "rank", None)
+        if self.supcon is not None:
+            out.update({k: v for k, v in self.supcon.summary().items() if k in ("states", "marked", "bdd_nodes")})
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("PaperRun", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("PaperRun", self.summary())
 
 
 def log10_count(count: int | None) -> float | None:

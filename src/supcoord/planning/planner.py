@@ -303,6 +303,7 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
     t0 = time.perf_counter()
     budget = budget or Budget()
     order = order or ("rcm" if route == "local" else "hex")
+    _phase(progress, "model", positioners=problem.n)  # collision tables and the guarded model
     model = CoordinationModel(problem, order=order, backend=backend, budget=budget, progress=progress)
     stats: dict[str, Any] = {"route": route, "order": order, "positioners": problem.n}
     work, descended = problem, None  # what the windows solve: problem itself, or target and start exchanged
@@ -358,6 +359,7 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         plan = Plan("complete", sim["path"], len(sim["path"]) - 1, lb, [], "", {})
     else:
         # scheduled and improved in the direction the windows solved (see _backwards)
+        _phase(progress, "schedule", single_moves=len(moves))
         plan = plan_from_schedule(work, moves)
         stats["schedule"] = plan.stats["schedule"]
         stats["single_moves"] = len(moves)
@@ -371,10 +373,20 @@ def solve(problem: Problem, *, route: str = "local", order: str | None = None, b
         plan = _backwards(problem, plan, moves)
     stats["seconds"] = time.perf_counter() - t0
     if validate:
+        _phase(progress, "validate", steps=len(plan.configurations) - 1)
         result = validate_plan(problem, plan)
         if not result["valid"]:  # a bug: never hand out a colliding plan
             raise RuntimeError(f"internal error: the planner's plan fails validation: {result['problems'][:3]}")
         stats["min_clearance"] = result["min_clearance"]
         stats["validate_seconds"] = time.perf_counter() - t0 - stats["seconds"]
     plan.stats = stats
+    if speed is not None:
+        _phase(progress, "timing", steps=len(plan.configurations) - 1)
     return with_motion(plan, problem, speed)
+
+
+def _phase(progress: Callable | None, stage: str, **info: Any) -> None:
+    """Tell ``progress`` that a phase without fixpoint iterations starts (its heartbeat
+    then keeps the line alive until the next report)."""
+    if progress is not None:
+        progress(stage, info)

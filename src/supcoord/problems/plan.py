@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from ..outputs import atomic_write_text
+from ..progress import summary_html, summary_repr
 from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
 from ..geometry.kinematics import MAX_POSITIONS, Kinematics, _is_int
 from ..geometry.layout import _short
@@ -103,6 +104,31 @@ class Plan:
             raise InputError(f"plan status must be one of {STATUSES}, got {self.status!r}", value=self.status)
         if self.makespan is None and self.configurations:
             self.makespan = len(self.configurations) - 1
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows of the plan (its ``repr`` and HTML): status, positioners,
+        steps, lower bound, motion time, moves, the reason of a verdict; never the arrays."""
+        out: dict[str, Any] = {"status": self.status}
+        try:
+            if self.configurations:
+                out["positioners"] = len(self.configurations[0])
+            for key, value in (("makespan", self.makespan), ("lower_bound", self.lower_bound),
+                               ("motion_time_s", None if self.motion_time_s is None else round(float(self.motion_time_s), 3)),
+                               ("single_moves", len(self.events) or None), ("lattice", self.lattice),
+                               ("seconds", round(float(self.stats["seconds"]), 2) if "seconds" in (self.stats or {})
+                                else None),
+                               ("reason", self.reason or None)):
+                if value is not None:
+                    out[key] = value
+        except Exception:  # noqa: BLE001 - a repr shows what it can of a broken object
+            out["invalid"] = True
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("Plan", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("Plan", self.summary())
 
     def to_json(self, kin: Kinematics | Problem) -> dict:
         """The PLAN.json object; given the :class:`Problem` (not only its kinematics), the

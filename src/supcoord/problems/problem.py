@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from ..outputs import atomic_write_text
+from ..progress import summary_html, summary_repr
 from ..geometry.collision import DEFAULT_TOL, CollisionTables, colliding_pairs, neighbour_pairs
 from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tables, unary_tables
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
@@ -100,6 +101,32 @@ class Problem:
     def n(self) -> int:
         """Number of positioners."""
         return len(self.bases)
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows of the problem (its ``repr`` and HTML): name, instrument,
+        positioners, kinematics and lattice, obstacles, robots held; never the arrays."""
+        out: dict[str, Any] = {}
+        for key, get in (("name", lambda: self.extra.get("name") or self.where),
+                         ("layout", lambda: self.layout.get("name") or self.layout.get("kind")),
+                         ("positioners", lambda: self.n),
+                         ("kinematics", lambda: self.kinematics.kind),
+                         ("lattice", lambda: " x ".join(map(str, self.kinematics.shape))),
+                         ("obstacles", lambda: len(self.obstacles)),
+                         ("held", lambda: len(self.held)),
+                         ("margin_mm", lambda: self.margin)):
+            try:
+                value = get()
+            except Exception:  # noqa: BLE001 - a repr shows what it can of a broken object
+                value = "?"
+            if value not in (None, 0, "") or key in ("positioners",):
+                out[key] = value
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("Problem", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("Problem", self.summary())
 
     def kin(self, p: int) -> Kinematics:
         """The kinematics of robot ``p``: its own lattice and arms where it has them, else

@@ -42,6 +42,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from ..errors import InputError
+from ..progress import summary_html, summary_repr
 from .isolate import FAILED, execute
 from .machine import code_version, cpu_model, machine
 from .report import StudyProgress
@@ -77,6 +78,20 @@ class RunSummary:
     def left(self) -> int:
         """Cases this run did not get to (it was interrupted)."""
         return self.pending - self.ran
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: the study, its cases, what this run did, the outcomes."""
+        out: dict[str, Any] = {"study": self.study, "cases": self.total, "pending": self.pending, "ran": self.ran,
+                               "failed": self.failed, "wall_seconds": round(self.wall_seconds, 1),
+                               "interrupted": self.interrupted, "database": self.database}
+        out.update({f"n_{k}": v for k, v in sorted(self.statuses.items())})
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("RunSummary", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("RunSummary", self.summary())
 
 
 def is_done(record: tuple[str, float | None, float | None] | None, case: Case, retry: Iterable[str] = ()) -> bool:

@@ -5,10 +5,11 @@
   panel per group of series (the paper's literal model, its coupled model, each
   kinematics or instrument of geometric coordination, the synthesis families …), one
   line per series (route, model, family) through the median over seeds at each size,
-  drawn in order of its x, every seed as a faint point, the growth fitted on its four
-  largest sizes (:mod:`.fit`; small sizes measure start-up costs) in the legend; y on a log axis where the values span a decade or more, x
-  on a log axis where the fitted growth is a power law and the sizes span a decade, a
-  linear axis where it is exponential (so an exponential is a straight line).  Cases
+  drawn in order of its x, every seed as a faint point, the growth fitted on all its
+  sizes (:func:`.fit.series_growth`: power law, linear or exponential) in the legend under
+  the panel; y on a log axis where the values span a decade or more, x on a log axis where
+  most fits are power laws and the sizes span a decade, a linear axis otherwise (so an
+  exponential is a straight line); log axes label 1-2-5 steps or decades, never crowded.  Cases
   that ran out of time are drawn as ▲ at their time limit (their time is at least that),
   out of memory as ✕;
 - :func:`figure_verdicts` — what did each case answer?  Per series and size, the count
@@ -23,6 +24,7 @@ figures of a database to a folder.
 
 from __future__ import annotations
 
+import math
 import os
 import statistics
 from collections.abc import Iterable
@@ -31,7 +33,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..outputs import atomic_output, check_output
-from .fit import fit_growth
+from .fit import series_growth, series_medians
 
 __all__ = ["METRICS", "figure_metric", "figure_quality", "figure_verdicts", "group_of", "study_figures", "x_of"]
 
@@ -43,9 +45,10 @@ POSITIVE = {"forcible", "complete", "nonempty", "ok"}
 #: the short codes of the answers in the verdicts figure
 CODES = {"complete": "C", "infeasible": "I", "forcible": "F", "not forcible": "NF", "nonempty": "N", "empty": "E",
          "ok": "ok", "timeout": "T", "out-of-memory": "M", "crashed": "X", "error": "err", "lost": "L", "skipped": "–"}
-#: the growth is fitted on this many largest sizes of a series (small sizes measure start-up costs)
-FIT_SIZES = 4
 NEGATIVE = {"not forcible", "infeasible", "empty"}
+#: no longer used by the figures, which fit every size of a series (:func:`.fit.series_growth`);
+#: kept so that code written against the old fit on the largest sizes still imports
+FIT_SIZES = 4
 
 
 def x_of(row: dict[str, Any]) -> int | None:
@@ -79,7 +82,8 @@ def _panels(n: int, width: float = 4.6, height: float = 3.8):
 
     cols = min(n, 3)
     rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False,
+                             layout="constrained")  # makes room for the legends under the panels
     flat = list(axes.ravel())
     for ax in flat[n:]:
         ax.set_visible(False)
@@ -100,7 +104,30 @@ def _limit_value(row: dict[str, Any], metric: str) -> float | None:
     return row.get(metric)
 
 
+def _log_ticks(axis, values: list[float]) -> None:
+    """Major ticks at 1-2-5, 1-3 or 1 of each decade (fewer as the decades grow) with plain
+    labels, and no minor labels: labels that never run into each other."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = min(values), max(values)
+    decades = math.log10(hi / lo) if lo > 0 else 0.0
+    subs = (1.0, 2.0, 5.0) if decades <= 2 else (1.0, 3.0) if decades <= 3.5 else (1.0,)
+    axis.set_major_locator(LogLocator(base=10, subs=subs))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:,.10g}" if 1e-3 <= v < 1e5 else f"{v:.0e}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _legend_below(ax) -> None:
+    """The legend under the panel (outside it), so it hides no marker."""
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        ax.legend(handles, labels, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=1,
+                  frameon=False)
+
+
 def _draw_metric(ax, rows: list[dict[str, Any]], metric: str, title: str) -> None:
+    medians = series_medians(rows, metric)
+    growth_of = series_growth(rows, metric)
     series: dict[str, list[dict[str, Any]]] = {}
     for r in rows:
         series.setdefault(r["series"], []).append(r)
@@ -108,16 +135,15 @@ def _draw_metric(ax, rows: list[dict[str, Any]], metric: str, title: str) -> Non
     failed_labels: set[str] = set()
     for i, (name, rs) in enumerate(sorted(series.items())):
         color = f"C{i % 10}"
-        ok = [r for r in rs if r["status"] == "ok" and r.get(metric) is not None and x_of(r) is not None]
-        by_x: dict[int, list[float]] = {}
-        for r in ok:
-            by_x.setdefault(x_of(r), []).append(float(r[metric]))
-        xs = sorted(by_x)  # every series in order of its x
-        med = [statistics.median(by_x[x]) for x in xs]
-        growth = fit_growth(xs[-FIT_SIZES:], med[-FIT_SIZES:])
+        xs, med = medians.get(name, ([], []))  # every series in order of its x
+        growth = growth_of.get(name)
         label = name + (f": {growth.label(_unit(rs))}" if growth else "")
         if xs:
             ax.plot(xs, med, "o-", color=color, label=label, ms=4, lw=1.4)
+            by_x: dict[int, list[float]] = {}
+            for r in rs:
+                if r["status"] == "ok" and r.get(metric) is not None and x_of(r) is not None:
+                    by_x.setdefault(x_of(r), []).append(float(r[metric]))
             spread = [(x, v) for x in xs for v in by_x[x] if len(by_x[x]) > 1]
             if spread:
                 ax.plot([p[0] for p in spread], [p[1] for p in spread], ".", color=color, alpha=0.35, ms=4)
@@ -145,15 +171,17 @@ def _draw_metric(ax, rows: list[dict[str, Any]], metric: str, title: str) -> Non
     positive = [v for v in values if v and v > 0]
     if positive and max(positive) / min(positive) >= 10:
         ax.set_yscale("log")
+        _log_ticks(ax.yaxis, positive)
     fitted = [g for g in growths if g is not None]
     powers = sum(g.model == "power" for g in fitted)
     xpos = [x for x in xs_all if x and x > 0]
     if xpos and max(xpos) / min(xpos) >= 10 and powers >= len(fitted) - powers:
         ax.set_xscale("log")
+        _log_ticks(ax.xaxis, xpos)
     ax.set_xlabel(_xlabel(rows))
     ax.set_ylabel(METRICS[metric][1])
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="best", framealpha=0.7)
+    _legend_below(ax)
 
 
 def figure_metric(rows: list[dict[str, Any]], metric: str = "seconds"):
@@ -168,7 +196,6 @@ def figure_metric(rows: list[dict[str, Any]], metric: str = "seconds"):
         _draw_metric(ax, rs, metric, title)
     fig.suptitle(f"{METRICS[metric][2]} against size, per route and model; ▲ ran out of time, ✕ out of memory",
                  fontsize=11)
-    fig.tight_layout()
     return fig
 
 
@@ -209,7 +236,6 @@ def figure_verdicts(rows: list[dict[str, Any]]):
     used = sorted({_outcome(r) for r in rows})
     fig.suptitle("cases per answer, series and size — green: all positive, yellow: some negative, red: failures, "
                  "grey: not run\n" + ", ".join(f"{CODES.get(o, o)} {o}" for o in used), fontsize=9)
-    fig.tight_layout()
     return fig
 
 
@@ -217,7 +243,7 @@ def figure_quality(rows: list[dict[str, Any]]):
     """Makespan / lower bound against positioners for the ``solve`` series."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = plt.subplots(figsize=(6, 4.6), layout="constrained")
     plans = [r for r in rows if r.get("makespan") is not None and r.get("lower_bound") and x_of(r) is not None]
     if not plans:
         solves = sum(r.get("kind") == "solve" for r in rows)
@@ -239,10 +265,10 @@ def figure_quality(rows: list[dict[str, Any]]):
     xs_all = [x_of(r) for r in plans]
     if max(xs_all) / max(1, min(xs_all)) >= 10:
         ax.set_xscale("log")
+        _log_ticks(ax.xaxis, [x for x in xs_all if x > 0])
     ax.set(xlabel="positioners", ylabel="makespan / lower bound", title="plan quality (1 = provably optimal)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
+    _legend_below(ax)
     return fig
 
 

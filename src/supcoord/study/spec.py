@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import FormatError, InputError
+from ..progress import summary_html, summary_repr
 from .kinds import KINDS, LIST_VALUED, check_params, series_of, size_of
 
 __all__ = [
@@ -92,6 +93,10 @@ class Case:
                  and v is not None}
         return ", ".join([self.series] + [f"{k}={v}" for k, v in shown.items()])
 
+    def __repr__(self) -> str:
+        return summary_repr("Case", {"case": self.describe(), "time_limit": self.time_limit,
+                                     "memory_limit_mb": self.memory_limit_mb})
+
 
 @dataclass
 class Study:
@@ -113,6 +118,17 @@ class Study:
             return self.database
         folder = self.path.parent if self.path is not None else Path.cwd()
         return folder / f"{self.name}.sqlite"
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: name, numbers of cases and series, the database."""
+        return {"name": self.name, "cases": len(self.cases), "series": len({c.series for c in self.cases}),
+                "database": str(self.database_path())}
+
+    def __repr__(self) -> str:
+        return summary_repr("Study", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("Study", self.summary())
 
 
 def parse_memory(value: Any, where: str) -> float | None:

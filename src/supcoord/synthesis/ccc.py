@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..des.symbolic import SymbolicGenerator
+from ..progress import summary_html, summary_repr
 from .forcibility import forcible_layers
 from .layers import Layers
 from .witness import witness
@@ -43,6 +44,22 @@ class CCCResult:
     layers: list[int]
     stats: dict[str, Any] = field(default_factory=dict)
     fixpoint: Layers | None = field(default=None, repr=False, compare=False)
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: the verdict, the rank, the witness's length and first events."""
+        out: dict[str, Any] = {"forcible": self.forcible, "rank": self.rank, "layers": len(self.layers)}
+        if self.witness:
+            out["witness"] = " ".join(map(str, self.witness[:8])) + (f" … ({len(self.witness)} events)"
+                                                                     if len(self.witness) > 8 else "")
+        if "seconds" in (self.stats or {}):
+            out["seconds"] = round(float(self.stats["seconds"]), 3)
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("CCCResult", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("CCCResult", self.summary())
 
     def to_json(self) -> dict[str, Any]:
         """The ``supcoord force --json`` object of ``docs/formats.md``."""

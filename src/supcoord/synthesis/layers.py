@@ -20,6 +20,7 @@ from typing import Any, Mapping, Sequence
 from ..bdd.context import BDD
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
+from ..progress import summary_html, summary_repr
 
 __all__ = ["SEMANTICS", "check_semantics", "Layers", "rank_naive", "as_states", "as_single_state"]
 
@@ -51,6 +52,17 @@ class Layers:
 
     def __len__(self) -> int:
         return len(self.layers)
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: the generator, the semantics, how many layers, complete or not."""
+        return {"generator": getattr(self.generator, "name", "?"), "semantics": self.semantics,
+                "layers": len(self.layers), "complete": self.complete}
+
+    def __repr__(self) -> str:
+        return summary_repr("Layers", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("Layers", self.summary())
 
     @property
     def target(self) -> BDD:

@@ -71,6 +71,7 @@ from ..des.generator import Generator
 from ..des.symbolic import SymbolicGenerator
 from ..des.symbolic_export import state_names
 from ..errors import InputError
+from ..progress import summary_html, summary_repr
 from .checks import check_deterministic
 from .product import (
     accessible_pairs,
@@ -98,6 +99,26 @@ class SupconResult:
     @property
     def empty(self) -> bool:
         return self.supervisor.init == self.supervisor.ctx.false
+
+    def summary(self) -> dict[str, Any]:
+        """What a notebook shows: the supervisor's name and the statistics' numbers."""
+        keep = ("states", "marked", "transitions", "bdd_nodes", "iterations", "seconds")
+        out: dict[str, Any] = {"supervisor": getattr(self.supervisor, "name", "?")}
+        out.update({k: _short(self.stats[k]) for k in keep if k in (self.stats or {})})
+        return out
+
+    def __repr__(self) -> str:
+        return summary_repr("SupconResult", self.summary())
+
+    def _repr_html_(self) -> str:
+        return summary_html("SupconResult", self.summary())
+
+
+def _short(value: Any) -> Any:
+    """A count of more than 15 digits as ``~1.2e+40`` (the exact count can have thousands)."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 50:
+        return f"~{float(value):.3g}" if value.bit_length() < 1000 else f"~10^{value.bit_length() * 0.30103:.0f}"
+    return round(value, 3) if isinstance(value, float) else value
 
 
 def lift_spec(plant, E, name: str | None = None):
