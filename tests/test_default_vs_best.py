@@ -56,7 +56,8 @@ def test_default_within_three_times_the_best_work(family, size, monkeypatch):
     _check(*families.FAMILIES[family](size), monkeypatch)
 
 
-@pytest.mark.parametrize("name", ["small_factory", "transfer_line", "cat_mouse", "agv"])
+@pytest.mark.parametrize("name", ["small_factory", "transfer_line", "cat_mouse",
+                                  pytest.param("agv", marks=pytest.mark.slow)])  # agv: ~10 s
 def test_default_within_three_times_the_best_work_on_classic_models(name, monkeypatch):
     m = classic.load(name)
     _check(m.plants, m.specs, monkeypatch)
