@@ -51,12 +51,16 @@ def test_force_reads_libfaudes_files(tmp_path, capsys, names):
     faudes_write(chain(), path, names)
     code, out, _ = run_cli(capsys, path, "--json")
     assert code == 0
-    assert json.loads(out) == {"status": "ok", "forcible": True, "witness": ["a", "u", "a"], "rank": 3, "layers": [1, 1, 1, 1]}
+    got = json.loads(out)
+    effort = got.pop("effort")
+    assert got == {"status": "ok", "forcible": True, "witness": ["a", "u", "a"], "rank": 3, "layers": [1, 1, 1, 1]}
+    assert set(effort["stage_seconds"]) == {"ccc"} and effort["cudd_lookups"] > 0 and effort["peak_live_nodes"] > 0
     for target in (["s2", "3"] if names else ["3"]):  # by name, or the libFAUDES index
         code, out, _ = run_cli(capsys, path, "--json", "--target", target)
         assert code == 0 and json.loads(out)["witness"] == ["a", "u"]
     code, out, _ = run_cli(capsys, path, "--json", "--semantics", "standard")
-    assert json.loads(out) == {"status": "ok", "forcible": False, "witness": [], "rank": None, "layers": [1, 1]}
+    assert json.loads(out) | {"effort": None} == {"status": "ok", "forcible": False, "witness": [], "rank": None,
+                                                  "layers": [1, 1], "effort": None}
     code, out, _ = run_cli(capsys, path)
     assert code == 0 and "FORCIBLE" in out and "a u a" in out
 
@@ -89,7 +93,8 @@ def test_force_empty_generator(tmp_path, capsys):
     path = tmp_path / "E.json"
     write_generator(Generator(0, [Event("a", True)], []), path)
     code, out, _ = run_cli(capsys, path, "--json")
-    assert code == 0 and json.loads(out) == {"status": "ok", "forcible": False, "witness": [], "rank": None, "layers": [0]}
+    assert code == 0 and json.loads(out) | {"effort": None} == {"status": "ok", "forcible": False, "witness": [],
+                                                                "rank": None, "layers": [0], "effort": None}
 
 
 def test_force_cli_random_payloads(tmp_path, capsys):

@@ -54,7 +54,7 @@ def test_small_factory_json_and_export(tmp_path, capsys, writer, route):
                              "--export", out_file, "--json", "--route", route)
     assert code == 0, err
     payload = json.loads(out)
-    assert set(payload) == KEYS
+    assert set(payload) == KEYS | ({"effort"} if route != "explicit" else set())  # effort: the symbolic route's
     assert payload["status"] == "ok"
     assert (payload["states"], payload["transitions"], payload["marked"]) == (12, 24, 1)
     assert (payload["bdd_nodes"] > 0) == (route != "explicit") and payload["seconds"] >= 0
@@ -95,7 +95,7 @@ def test_empty_supervisor_is_ok(tmp_path, capsys):
     write_generator(spec, tmp_path / "S.gen")
     code, out, _ = run_cli(capsys, "--plant", tmp_path / "P.gen", "--spec", tmp_path / "S.gen", "--json")
     assert code == 0
-    assert json.loads(out) | {"bdd_nodes": 0, "seconds": 0} == {
+    assert json.loads(out) | {"bdd_nodes": 0, "seconds": 0, "effort": None} == {"effort": None,
         "status": "ok", "states": 0, "transitions": 0, "marked": 0, "bdd_nodes": 0, "seconds": 0}
 
 
@@ -194,7 +194,7 @@ def test_subprocess(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     payload = json.loads(proc.stdout)
-    assert set(payload) == KEYS and payload["states"] == 12
+    assert set(payload) == KEYS | {"effort"} and payload["states"] == 12
 
 
 def test_export_limit_must_be_positive(tmp_path, capsys):
@@ -340,3 +340,18 @@ def test_a_budget_that_runs_out_in_the_export_names_the_export(tmp_path, capsys,
     payload = json.loads(out)
     assert code == 3 and payload["status"] == "unknown" and payload["stats"]["stage"] == "export"
     assert not (tmp_path / "V.gen").exists()
+
+
+def test_json_effort_reports_stages_and_cudd_counters(tmp_path, capsys):
+    """``--json`` of the symbolic route: seconds per fixpoint stage and CUDD's counters."""
+    paths, _, _ = small_factory_files(tmp_path, "supcoord")
+    code, out, err = run_cli(capsys, "--plant", paths["MACH1"], paths["MACH2"], "--spec", paths["BUF"], paths["BR"],
+                             "--json", "--route", "symbolic")
+    assert code == 0, err
+    effort = json.loads(out)["effort"]
+    assert set(effort["stage_seconds"]) == {"product", "reachable", "nonblocking", "controllable", "accessible",
+                                            "counts"}
+    assert all(t >= 0 for t in effort["stage_seconds"].values())
+    assert effort["peak_live_nodes"] >= effort["live_nodes"] > 0
+    assert effort["cudd_lookups"] > effort["cudd_hits"] > 0 and effort["cudd_insertions"] > 0
+    assert effort["closure_lookups"] >= 0 and effort["closures_abandoned"] >= 0

@@ -72,6 +72,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..des.io import read_generator
     from ..des.symbolic import from_explicit
     from ..synthesis.ccc import ccc
+    from ..synthesis.effort import EffortMeter
 
     path = str(existing_file(args.generator, "generator file"))
     budget = budget_from_args(args)
@@ -83,8 +84,10 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     else:
         q = resolve_state(g, args.target, path)
         target, shown = (V.state_of({"q": q}) if V.variables else V.invariant), f"state {args.target}"
-    result = ccc(V, args.semantics, target=target)
-    payload = result.to_json()
+    with EffortMeter(ctx) as meter:
+        with meter.stage("ccc"):
+            result = ccc(V, args.semantics, target=target)
+    payload = result.to_json() | {"effort": meter.result().as_dict()}  # CUDD's counters, as supcon's
     lines = [f"{g.name}: {g.n_states} states, {g.n_transitions} transitions; target {shown}; "
              f"{args.semantics} semantics"]
     if result.forcible:

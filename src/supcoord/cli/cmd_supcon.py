@@ -168,6 +168,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         "bdd_nodes": st["bdd_nodes"],
         "seconds": round(seconds, 6),
     }
+    if "effort" in st:  # the symbolic route: seconds per stage, CUDD's counters
+        payload["effort"] = st["effort"]
     names = [g.name for g in plants if g is not extra]
     lines = [
         f"plants: {', '.join(names)}; specifications: {', '.join(g.name for g in specs) or '(none)'}"

@@ -18,6 +18,16 @@ local run lie in ``Q``: a group is accelerated only where every one of its steps
 a scratch CUDD manager holding only the groups' supports (copied there and back), so
 the main manager never sees it.  A group writing more than ``_CLOSURE_BITS`` bits, or
 whose closure grows past ``_CLOSURE_GROWTH`` × its relation, keeps its plain steps.
+
+**The closures' own work is bounded** (``max_work``): squaring can cost far more than
+the plain steps it replaces even where every operand stays small (on ``machine_line(8)``
+one ``AndAbstract`` of two 1,816-node operands took 120 million computed-table lookups,
+~100 s, to return 1,414 nodes).  The scratch manager gives up once its operations have
+taken ``max_work`` computed-table lookups (:class:`~supcoord.bdd.cudd_work.WorkLimit`,
+CUDD's count of recursive steps: the same on every machine); the group being closed
+then, and every group not yet closed, keep their plain steps.  A single write group
+holding every step is not closed at all: its closure is the whole transition relation's,
+a harder problem than the reachability it would serve.
 On the coupled paper model (issue 15) this cuts the images of ``Reach(G × E)`` 10–35×
 and its time ~2× at 5–6 positioners (benchmarks/results/coupled.md).
 
@@ -35,12 +45,24 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..bdd.context import BDD, Context
+from ..bdd.cudd_work import WorkLimit, cache_lookups
+from .effort import add_closure_work
 from .image_step import ImageStep
 
-__all__ = ["write_groups", "local_closures"]
+__all__ = ["write_groups", "local_closures", "work_done"]
 
 _CLOSURE_BITS = 16  # a group writing more bits keeps its plain steps
 _CLOSURE_GROWTH = 32  # … and so does one whose closure exceeds this × its relation's nodes
+
+
+def work_done(ctx: Context) -> int | None:
+    """The computed-table lookups of ``ctx``'s manager so far (CUDD's count of operation
+    steps, :func:`~supcoord.bdd.cudd_work.cache_lookups`), or ``None`` without CUDD."""
+    if ctx.backend != "cudd" or not ctx.fast_count:
+        return None
+    import dd.cudd as cudd
+
+    return cache_lookups(ctx.bdd, cudd)
 
 
 def write_groups(steps: list[ImageStep]) -> list[list[ImageStep]]:
@@ -64,11 +86,13 @@ def write_groups(steps: list[ImageStep]) -> list[list[ImageStep]]:
     return list(groups.values())
 
 
-def local_closures(ctx: Context, steps: list[ImageStep], inside: BDD) -> list[ImageStep]:
+def local_closures(ctx: Context, steps: list[ImageStep], inside: BDD, max_work: int | None = None) -> list[ImageStep]:
     """Replace each write group whose steps all map ``inside`` into itself by one step
     with the transitive closure ``R_Γ⁺`` of the group's relation (module docstring); the
     other groups keep their steps, with ``∩ inside`` left out where ``Img_σ(inside) ⊆
-    inside``.  Needs CUDD (the scratch manager); with another backend nothing changes."""
+    inside``.  ``max_work`` bounds the computed-table lookups (CUDD's operation steps) of
+    all closures together; groups not closed within it keep their plain steps (``None``:
+    no bound).  Needs CUDD (the scratch manager); with another backend nothing changes."""
     if ctx.backend != "cudd" or not steps:
         return steps
     closed = [s for s in steps if s.raw_image(ctx, inside) & ~inside == ctx.false]  # Img_σ(Q) ⊆ Q
@@ -76,7 +100,10 @@ def local_closures(ctx: Context, steps: list[ImageStep], inside: BDD) -> list[Im
     steps = [s if id(s) not in closed_ids else replace(s, clip=False) for s in steps]
     out: list[ImageStep] = []
     todo: list[tuple[list[ImageStep], tuple[str, ...], BDD]] = []
-    for group in write_groups(steps):
+    groups = write_groups(steps)
+    if len(groups) == 1:  # the closure of the whole relation: harder than the reachability it serves
+        return steps
+    for group in groups:
         writes = tuple(sorted(frozenset().union(*(s.writes for s in group))))
         if any(s.clip for s in group) or len(ctx.bits(writes)) > _CLOSURE_BITS:
             out.extend(group)
@@ -87,7 +114,7 @@ def local_closures(ctx: Context, steps: list[ImageStep], inside: BDD) -> list[Im
         todo.append((group, writes, rel))
     if not todo:
         return out
-    for (group, writes, rel), plus in zip(todo, _closures(ctx, [(ctx.bits(w), r) for _, w, r in todo])):
+    for (group, writes, rel), plus in zip(todo, _closures(ctx, [(ctx.bits(w), r) for _, w, r in todo], max_work)):
         if plus is None:  # grew too large: the plain steps
             out.extend(group)
             continue
@@ -100,12 +127,13 @@ def local_closures(ctx: Context, steps: list[ImageStep], inside: BDD) -> list[Im
     return out
 
 
-def _closures(ctx: Context, relations: list[tuple[list[str], BDD]]) -> list[BDD | None]:
+def _closures(ctx: Context, relations: list[tuple[list[str], BDD]], max_work: int | None = None) -> list[BDD | None]:
     """``R⁺`` of each ``(written bits, R)`` by iterative squaring, ``T := T ∨ T∘T`` with
     ``(T∘T)(x, x') = ∃m. T(x, m) ∧ T(m, x')`` over the written bits only, in one scratch
     CUDD manager holding the relations' bits in the main order and a third copy ``m``
     right below each primed written bit; ``None`` where ``R⁺`` outgrows
-    ``_CLOSURE_GROWTH`` × ``R``."""
+    ``_CLOSURE_GROWTH`` × ``R``, and for every relation not closed within ``max_work``
+    computed-table lookups of the scratch manager."""
     import dd.cudd as cudd
 
     bdd = ctx.bdd
@@ -121,16 +149,32 @@ def _closures(ctx: Context, relations: list[tuple[list[str], BDD]]) -> list[BDD 
             mid[v[:-1]] = v + "'"  # x'' (a name the main manager never declares)
             scratch.declare(mid[v[:-1]])
     out: list[BDD | None] = []
-    for bits, r in relations:
-        to_mid_target = {b + "'": mid[b] for b in bits}  # T(x, m): x' → m
-        to_mid_source = {b: mid[b] for b in bits}  # T(m, x'): x → m
-        mids = [mid[b] for b in bits]
-        t = cudd.copy_bdd(r, scratch)
-        cap = _CLOSURE_GROWTH * max(1, ctx.node_count(r))
-        while t is not None:
-            t2 = t | cudd.and_exists(scratch.let(to_mid_target, t), scratch.let(to_mid_source, t), mids)
-            if t2 == t:
+    unbounded = 1 << 62  # (counted, never reached)
+    with WorkLimit(scratch, cudd, (unbounded if max_work is None else max_work) if ctx.fast_count else None) as limit:
+        for bits, r in relations:
+            try:
+                out.append(_square(ctx, scratch, cudd, bits, r, mid))
+            except ValueError:  # CUDD gave up (the work limit): this and the rest keep their steps
+                if not limit.exceeded:
+                    raise
                 break
-            t = t2 if len(t2) <= cap else None
-        out.append(None if t is None else cudd.copy_bdd(t, bdd))
+        used = limit.used()
+    out += [None] * (len(relations) - len(out))
+    add_closure_work(used, sum(t is not None for t in out), sum(t is None for t in out))
     return out
+
+
+def _square(ctx: Context, scratch, cudd, bits: list[str], r: BDD, mid: dict[str, str]) -> BDD | None:
+    """``R⁺`` of one relation in the scratch manager (:func:`_closures`), copied back."""
+    to_mid_target = {b + "'": mid[b] for b in bits}  # T(x, m): x' → m
+    to_mid_source = {b: mid[b] for b in bits}  # T(m, x'): x → m
+    mids = [mid[b] for b in bits]
+    t = cudd.copy_bdd(r, scratch)
+    cap = _CLOSURE_GROWTH * max(1, ctx.node_count(r))
+    while True:
+        t2 = t | cudd.and_exists(scratch.let(to_mid_target, t), scratch.let(to_mid_source, t), mids)
+        if t2 == t:
+            return cudd.copy_bdd(t, ctx.bdd)
+        if len(t2) > cap:
+            return None
+        t = t2

@@ -59,7 +59,7 @@ from ..des import explicit_ops as X
 from ..des.generator import Generator
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
-from .closures import local_closures, write_groups
+from .closures import local_closures, work_done, write_groups
 from .image_step import ImageProfile, ImageStep, event_steps
 
 __all__ = [
@@ -85,6 +85,8 @@ DEFAULT_METHOD = "saturation"
 #: docstring); ``False`` restores the plain event steps (the benchmark's "old" variant)
 LOCAL_CLOSURES = True
 _CLOSURE_AFTER = 256  # images of plain saturation before the closures are worth computing
+_CLOSURE_WORK = 2  # the closures may cost this × the work (CUDD lookups) of those images …
+_CLOSURE_MIN_WORK = 10_000  # … or this many lookups (~0.01 s), whichever is more
 
 
 def event_clusters(G: SymbolicGenerator, events: Iterable[str] | None = None) -> list[list[str]]:
@@ -169,10 +171,12 @@ def _fixpoint(G: SymbolicGenerator, seeds: BDD, within: BDD | None, method: str,
     if method == "saturation" and within is None and LOCAL_CLOSURES and G.ctx.backend == "cudd":
         # plain steps first (small fixpoints end here); a long one resumes from its partial
         # set with the write groups' closures: init ⊆ X ⊆ Reach(init) gives the same fixpoint
+        before = work_done(G.ctx)
         x, done = _saturate(G.ctx, x, inside, steps, stage, _CLOSURE_AFTER)
         if done:
             return x
-        steps = local_closures(G.ctx, steps, inside)
+        plain = None if before is None else work_done(G.ctx) - before
+        steps = local_closures(G.ctx, steps, inside, None if plain is None else max(_CLOSURE_MIN_WORK, plain * _CLOSURE_WORK))
     return _FIXPOINTS[method](G.ctx, x, inside, steps, stage)
 
 

@@ -73,6 +73,7 @@ from ..des.symbolic_export import state_names
 from ..errors import InputError
 from ..progress import summary_html, summary_repr
 from .checks import check_deterministic
+from .effort import Effort, EffortMeter
 from .product import (
     accessible_pairs,
     check_alphabets,
@@ -91,10 +92,12 @@ __all__ = ["SupconResult", "supcon", "accessible_part", "supcon_naive", "supcon_
 class SupconResult:
     """The supervisor (``G × E`` restricted to its trim controllable set) and statistics:
     ``states``, ``transitions``, ``marked`` (exact), ``bdd_nodes`` (the supervisor's
-    shared DAG), ``set_nodes`` (its state set), ``iterations``, ``seconds``."""
+    shared DAG), ``set_nodes`` (its state set), ``iterations``, ``seconds``; ``effort``: seconds per
+    fixpoint stage and CUDD's counters (:class:`~supcoord.synthesis.effort.Effort`)."""
 
     supervisor: SymbolicGenerator
     stats: dict[str, Any] = field(default_factory=dict)
+    effort: Effort | None = None  # where the time and the BDD work went (also stats["effort"])
 
     @property
     def empty(self) -> bool:
@@ -157,26 +160,35 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
     :class:`~supcoord.errors.NondeterminismError` for a nondeterministic ``G`` or ``E``."""
     t0 = time.perf_counter()
     ctx = G.ctx
-    P = product(G, E, name)
-    check_deterministic(G)
-    check_deterministic(E)
-    unc = P.uncontrollable
-    universe = reachable(P, method=method) if accessible else P.invariant  # Reach(P), or Q_P
-    z = universe & ~uncontrollable_blocked(G, P)  # universe \ B0
-    zold, i = None, 0
-    while z != zold:  # until the controllability step removes nothing
-        inside = None if z == P.invariant else z  # (unconstrained: saturation may use its local closures)
-        zold = coreachable(P, P.marked & z, within=inside, method=method)  # Z ∩ CoReach_Z(Qm)
-        bad = universe & ~zold
-        z = zold & ~coreachable(P, bad, within=universe, method=method, events=unc)  # Z \ UPre*(¬Z)
-        i += 1
-        ctx.check_budget("supcon", iteration=i, z_nodes=ctx.node_count(z))
-    if accessible and z != universe:  # (Z = Reach(P) is its own Reach_Z(q0))
-        z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
-    V = P.restrict(z, name)
-    stats = {"iterations": i, **_counts(V, count_transitions, accessible)}
+    with EffortMeter(ctx) as meter:
+        with meter.stage("product"):
+            P = product(G, E, name)
+            check_deterministic(G)
+            check_deterministic(E)
+        unc = P.uncontrollable
+        with meter.stage("reachable"):
+            universe = reachable(P, method=method) if accessible else P.invariant  # Reach(P), or Q_P
+            z = universe & ~uncontrollable_blocked(G, P)  # universe \ B0
+        zold, i = None, 0
+        while z != zold:  # until the controllability step removes nothing
+            inside = None if z == P.invariant else z  # (unconstrained: saturation may use its local closures)
+            with meter.stage("nonblocking"):
+                zold = coreachable(P, P.marked & z, within=inside, method=method)  # Z ∩ CoReach_Z(Qm)
+            with meter.stage("controllable"):
+                bad = universe & ~zold
+                z = zold & ~coreachable(P, bad, within=universe, method=method, events=unc)  # Z \ UPre*(¬Z)
+            i += 1
+            ctx.check_budget("supcon", iteration=i, z_nodes=ctx.node_count(z))
+        with meter.stage("accessible"):
+            if accessible and z != universe:  # (Z = Reach(P) is its own Reach_Z(q0))
+                z = reachable(P, P.init & z, within=z, method=method)  # Reach_Z(q0)
+            V = P.restrict(z, name)
+        with meter.stage("counts"):
+            stats = {"iterations": i, **_counts(V, count_transitions, accessible)}
+        effort = meter.result()
     stats["seconds"] = time.perf_counter() - t0
-    return SupconResult(V, stats)
+    stats["effort"] = effort.as_dict()
+    return SupconResult(V, stats, effort)
 
 
 def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> dict[str, Any]:
