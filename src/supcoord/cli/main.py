@@ -25,6 +25,7 @@ from typing import Any, Callable, Iterator, Sequence
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
 from ..bdd.budget import current_rss
+from ..bdd.memory import MemoryCap
 from .common import CommandResult, Console, add_common_options, budget_from_args, command_parser, to_jsonable
 
 __all__ = ["main", "build_parser", "COMMANDS"]
@@ -121,8 +122,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (RuntimeError, ValueError, MemoryError) as exc:
         if not _out_of_memory(exc):
             raise
-        return _stopped(args, console, f"out of memory in a BDD operation: {_first_line(exc)}",
-                        {"stage": "memory"})
+        return _stopped(args, console, _memory_reason(args, exc), {"stage": "memory"})
     except KeyboardInterrupt:
         console.error("interrupted")
         return 130
@@ -205,7 +205,9 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
     ``SIGUSR2``, a real signal that also ends a sleep; its handler raises
     :class:`BudgetExceeded` with the last progress report as partial statistics).  No interval timer is used, so ``SIGALRM`` stays free for the
     caller (a test runner's own time limit).  A single BDD or numpy operation still runs
-    to its end: the handler runs when the interpreter gets control back.  Main thread only;
+    to its end: the handler runs when the interpreter gets control back; for memory,
+    :class:`~supcoord.bdd.memory.MemoryCap` makes the limit hard (an allocation past it
+    fails, which is then reported like any out-of-memory error, exit 3).  Main thread only;
     elsewhere the fixpoints' own checks are the budget.  Bad values of the options are
     refused here, before any work."""
     if not getattr(args, "func", None) or not hasattr(args, "timeout"):
@@ -213,6 +215,14 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
         return
     budget = budget_from_args(args)
     timeout, max_memory = budget.timeout, budget.max_memory
+    with _sampling(console, timeout, max_memory):  # its thread first: the cap leaves no room for a stack
+        with MemoryCap(max_memory) if max_memory is not None else contextlib.nullcontext():
+            yield
+
+
+@contextlib.contextmanager
+def _sampling(console: Console, timeout: float | None, max_memory: int | None) -> Iterator[None]:
+    """The watchdog's thread (:func:`_watchdog`)."""
     usable = ((timeout is not None or max_memory is not None) and hasattr(signal, "pthread_kill")
               and threading.current_thread() is threading.main_thread())
     if not usable:
@@ -281,6 +291,14 @@ def _out_of_memory(exc: BaseException) -> bool:
         return True
     text = str(exc)
     return "run out of memory" in text or "out of memory" in text.lower() or "`NULL` pointer" in text
+
+
+def _memory_reason(args: argparse.Namespace, exc: BaseException) -> str:
+    """Why an allocation failed: the memory budget (``--max-memory``, or its default) that
+    :class:`~supcoord.bdd.memory.MemoryCap` enforces, and what failed."""
+    size = getattr(args, "max_memory", None)
+    budget = f"the memory budget of {size}" if size is not None else "the default memory budget (set it with --max-memory)"
+    return f"memory budget exceeded: an allocation failed at {budget} ({type(exc).__name__}: {_first_line(exc)})"
 
 
 def _stopped(args: argparse.Namespace, console: Console, reason: str, stats: dict) -> int:

@@ -80,6 +80,7 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
             proc = subprocess.Popen([sys.executable, "-m", "supcoord.study.child", task_path, result_path],
                                     stdin=subprocess.DEVNULL, stdout=out, stderr=err, env=env, start_new_session=True)
         killed, stopped, status, usage = _wait(proc, t0 + limit + grace_seconds(limit), should_stop)
+        _kill(proc)  # what the case started in its session and left running ends with it
         wall = time.perf_counter() - t0
         result: dict[str, Any] = {}
         if os.path.exists(result_path):
