@@ -26,6 +26,7 @@ from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
 from ..bdd.budget import current_rss
 from ..bdd.memory import MemoryCap
+from . import guard
 from .common import CommandResult, Console, add_common_options, budget_from_args, command_parser, to_jsonable
 
 __all__ = ["main", "build_parser", "COMMANDS"]
@@ -104,6 +105,27 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     console = Console.from_args(args)
+    max_memory = _memory_budget(args)
+    if max_memory is not None and guard.can_fork():  # the work in a child the budget may end (guard)
+        return guard.run_in_child(lambda: _work(args, console), max_memory,
+                                  lambda reason, stats: _stopped(args, console, reason, stats),
+                                  lambda message: (console.error(message), 1)[1])
+    return _work(args, console)
+
+
+def _memory_budget(args: argparse.Namespace) -> int | None:
+    """The memory budget of a command that takes one (None: none, or options that
+    :func:`_work` will refuse in one line)."""
+    if not hasattr(args, "timeout"):
+        return None
+    try:
+        return budget_from_args(args).max_memory
+    except SupcoordError:
+        return None
+
+
+def _work(args: argparse.Namespace, console: Console) -> int:
+    """The command's work, its output and its exit status (:func:`main`)."""
     restore = _interrupt_once()
     try:
         with _watchdog(args, console):
