@@ -320,7 +320,8 @@ def _memory_reason(args: argparse.Namespace, exc: BaseException) -> str:
     :class:`~supcoord.bdd.memory.MemoryCap` enforces, and what failed."""
     size = getattr(args, "max_memory", None)
     budget = f"the memory budget of {size}" if size is not None else "the default memory budget (set it with --max-memory)"
-    return f"memory budget exceeded: an allocation failed at {budget} ({type(exc).__name__}: {_first_line(exc)})"
+    return (f"memory budget exceeded (out of memory): an allocation failed at {budget} "
+            f"({type(exc).__name__}: {_first_line(exc)})")
 
 
 def _stopped(args: argparse.Namespace, console: Console, reason: str, stats: dict) -> int:
