@@ -12,7 +12,7 @@ Budgets: the case's time limit becomes the library's :class:`~supcoord.bdd.budge
 timeout, so a long fixpoint stops cleanly between iterations with the statistics so far
 (status ``timeout``); its memory limit becomes a node budget (80 % of it at 80 bytes per
 node, the command line's rule, ``docs/cli.md``), so a BDD that would not fit stops as
-``out-of-memory`` before the address-space limit (:mod:`.child`) is hit.
+``out-of-memory`` before the hard memory limit (:mod:`.child`) is hit.
 """
 
 from __future__ import annotations
