@@ -38,6 +38,8 @@ def test_notebook_is_stored_clean_with_a_parameters_cell(path):
     assert "SMALL" in first.source, f"{path.name}: the parameters cell does not define SMALL"
 
 
+@pytest.mark.slow
+@pytest.mark.timeout(300)  # notebook 02 runs a live study on Dask: over a minute on a loaded 2-core machine
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_runs(path, monkeypatch):
     from nbmake.nb_run import NotebookRun
