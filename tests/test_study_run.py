@@ -356,3 +356,21 @@ def test_ctrl_c_on_dask_workers_is_one_line_and_the_run_resumes(tmp_path):
     summary = run_study(load_study(path), workers=0, progress=None)
     assert summary.ran == summary.pending == 8 - len(results_rows(db)) + summary.ran
     assert len(results_rows(db)) == 8
+
+
+def test_a_case_dying_of_a_signal_at_its_memory_limit_is_out_of_memory_not_a_crash(tmp_path):
+    """Some CUDD paths end the process (SIGSEGV) when an allocation fails under the limit."""
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "dies.py").write_text(
+        "import os, signal\n"
+        "def at(mb):\n"
+        "    block = bytearray(mb * 2**20)\n"
+        "    memoryview(block)[::4096] = b'x' * (len(block) // 4096)  # resident, page by page\n"
+        "    os.kill(os.getpid(), signal.SIGSEGV)\n")
+    (tmp_path / "dies.toml").write_text(
+        'pythonpath = ["lib"]\nmemory_limit = "300 MB"\n[[cases]]\nkind = "call"\nfunction = "dies:at"\n'
+        'args = [[220], [20]]\n')
+    run_study(load_study(tmp_path / "dies.toml"), workers=0, progress=None)
+    rows = {json.loads(r["params"])["args"][0]: r for r in results_rows(tmp_path / "dies.sqlite")}
+    assert rows[220]["status"] == "out-of-memory" and "SIGSEGV" in rows[220]["message"], rows[220]
+    assert rows[20]["status"] == "crashed"  # far below its limit: a bug

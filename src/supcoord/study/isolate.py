@@ -13,7 +13,7 @@ measurement (:mod:`.cases`) and how it ran: ``status`` is
 - ``ok``: an answer (``verdict`` says which);
 - ``timeout``: the library stopped at the time limit, or the process was killed after it;
 - ``out-of-memory``: an allocation failed under the memory limit (or the node budget it
-  implies ran out);
+  implies ran out; or the process died of a signal after using 80 % of its limit);
 - ``error``: the case's parameters were refused by the library (``message`` says why);
 - ``crashed``: the process died (a signal, such as a segmentation fault) or raised an
   unexpected exception; ``message`` holds what it reported (the last lines of its error
@@ -40,6 +40,9 @@ __all__ = ["FAILED", "STATUSES", "execute", "grace_seconds"]
 STATUSES = ("ok", "timeout", "out-of-memory", "error", "crashed", "lost", "skipped")
 #: the statuses counted as failures in progress lines and summaries
 FAILED = ("timeout", "out-of-memory", "error", "crashed", "lost")
+#: share of its memory limit a case must have used for its death by a signal to count as
+#: running out of memory (supcoord.cli.guard.NEAR_BUDGET)
+NEAR_LIMIT = 0.8
 #: error output of CUDD / the C++ runtime when memory runs out
 _OOM_TEXT = ("bad_alloc", "MemoryError", "out of memory", "Cannot allocate memory")
 
@@ -97,8 +100,10 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
                                              f"{limit:g} s and {grace_seconds(limit):g} s of grace")
     elif not result:
         row.update(status="crashed", message=_death(status, stderr))
-        if any(t in stderr for t in _OOM_TEXT):
-            row["status"] = "out-of-memory"
+        memory = task.get("memory_limit_mb")
+        near = memory is not None and row["peak_rss_mb"] >= NEAR_LIMIT * memory
+        if any(t in stderr for t in _OOM_TEXT) or (near and os.WIFSIGNALED(status)):
+            row["status"] = "out-of-memory"  # (a few CUDD paths die of SIGSEGV when an allocation fails)
     elif row.get("status") == "crashed" and stderr:
         row["extra"]["stderr"] = stderr
     row.setdefault("message", "")
