@@ -8,6 +8,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -29,12 +30,25 @@ def _child_peak(argv: list[str]) -> tuple[int, str, str, int]:
     """Exit status, stdout, stderr and peak resident bytes of a command (and its children)."""
     import tempfile
 
+    import psutil
+
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True)
-        _, status, usage = os.wait4(proc.pid, 0)  # this child's own peak (and its children's)
-        proc.returncode = os.waitstatus_to_exitcode(status)
+        peak = 0
+        while proc.poll() is None:  # VmHWM of the command and its child: ru_maxrss would start at pytest's
+            try:
+                family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
+            except psutil.Error:
+                continue
+            for p in family:
+                try:
+                    with open(f"/proc/{p.pid}/status") as f:
+                        peak = max(peak, next(int(ln.split()[1]) * 1024 for ln in f if ln.startswith("VmHWM")))
+                except (OSError, StopIteration):
+                    pass
+            time.sleep(0.02)
         out.seek(0), err.seek(0)
-        return proc.returncode, out.read(), err.read(), usage.ru_maxrss * 1024
+        return proc.returncode, out.read(), err.read(), peak
 
 
 def test_the_cap_stops_a_bdd_growing_inside_cudd_at_its_budget():
@@ -49,7 +63,7 @@ def test_the_cap_stops_a_bdd_growing_inside_cudd_at_its_budget():
         "        _worst_order_conjunction(bdd, 23)\n"
         "    except (MemoryError, RuntimeError, ValueError) as exc:\n"
         "        print('stopped', type(exc).__name__)\n"
-        "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
+        "print(next(l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')))\n")
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=root)
     lines = proc.stdout.split()

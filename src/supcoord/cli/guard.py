@@ -56,6 +56,9 @@ def run_in_child(work: Callable[[], int], max_memory: int,
     died of a signal well below (module docstring)."""
     sys.stdout.flush()
     sys.stderr.flush()
+    from ..bdd.memory import memory_status
+
+    inherited = memory_status().get("VmRSS", 0)  # a forked child's ru_maxrss starts at least here
     pid = os.fork()
     if pid == 0:  # the child: the work, then leave without the parent's clean-up
         code = 1
@@ -90,7 +93,7 @@ def run_in_child(work: Callable[[], int], max_memory: int,
     if sig == signal.SIGINT:
         return 130
     peak = usage.ru_maxrss * 1024
-    if peak >= NEAR_BUDGET * max_memory:
+    if peak > inherited and peak >= NEAR_BUDGET * max_memory:
         return out_of_memory(f"memory budget exceeded: the computation ended ({name}) when an allocation "
                              f"failed at the budget of {max_memory / 2**20:.0f} MiB",
                              {"stage": "memory", "peak_rss_bytes": peak, "signal": name})

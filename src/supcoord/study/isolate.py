@@ -78,6 +78,7 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
             json.dump(task, f)
         env = {**os.environ, "SUPCOORD_STUDY_PARENT": str(os.getpid()), "OMP_NUM_THREADS": "1",
                "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+        inherited = _high_water()  # a child's ru_maxrss starts at this process's peak (Linux, at exec)
         t0 = time.perf_counter()
         with open(os.path.join(tmp, "stdout.txt"), "wb") as out, open(err_path, "wb") as err:
             proc = subprocess.Popen([sys.executable, "-m", "supcoord.study.child", task_path, result_path],
@@ -101,13 +102,28 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
     elif not result:
         row.update(status="crashed", message=_death(status, stderr))
         memory = task.get("memory_limit_mb")
-        near = memory is not None and row["peak_rss_mb"] >= NEAR_LIMIT * memory
+        peak = usage.ru_maxrss * 1024
+        near = memory is not None and peak > inherited and peak >= NEAR_LIMIT * memory * 2**20
         if any(t in stderr for t in _OOM_TEXT) or (near and os.WIFSIGNALED(status)):
             row["status"] = "out-of-memory"  # (a few CUDD paths die of SIGSEGV when an allocation fails)
     elif row.get("status") == "crashed" and stderr:
         row["extra"]["stderr"] = stderr
     row.setdefault("message", "")
     return row
+
+
+def _high_water() -> int:
+    """This process's peak resident bytes (``VmHWM``; 0 where unknown).  The kernel carries
+    it into the ``ru_maxrss`` of a child it starts, so only a child's ``ru_maxrss`` above it
+    is the child's own peak."""
+    try:
+        with open("/proc/self/status", "rb") as f:
+            for line in f:
+                if line.startswith(b"VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
 
 
 def _death(status: int, stderr: str) -> str:
