@@ -34,7 +34,7 @@ from __future__ import annotations
 import threading
 from typing import Any
 
-__all__ = ["MemoryCap", "memory_status"]
+__all__ = ["RESERVE", "MemoryCap", "memory_status"]
 
 #: seconds between two adjustments of the limit
 TICK = 0.1

@@ -25,6 +25,7 @@ from typing import Any, Callable, Iterator, Sequence
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
 from ..bdd.budget import current_rss
+from ..bdd.memory import RESERVE as CAP_RESERVE
 from ..bdd.memory import MemoryCap
 from . import guard
 from .common import CommandResult, Console, add_common_options, budget_from_args, command_parser, to_jsonable
@@ -267,10 +268,11 @@ def _sampling(console: Console, timeout: float | None, max_memory: int | None) -
                 where, stats = where_and_stats()
                 reason.append((f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
                                {**stats, "seconds": elapsed, "watchdog": True}, timeout))
-            elif max_memory is not None and (rss := current_rss()) > max_memory:
+            elif max_memory is not None and (rss := current_rss()) > max_memory - CAP_RESERVE - 2**20:
+                # (at the hard limit's ceiling: past it allocations fail, and CUDD may go on collecting garbage)
                 where, stats = where_and_stats()
-                reason.append((f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident > "
-                               f"{max_memory / 2**20:.0f} MiB",
+                reason.append((f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident, at the "
+                               f"budget of {max_memory / 2**20:.0f} MiB",
                                {**stats, "seconds": elapsed, "rss_bytes": rss, "watchdog": True}, max_memory))
             if reason:
                 signal.pthread_kill(main_thread, signal.SIGUSR2)  # a real signal: it also ends a sleep
