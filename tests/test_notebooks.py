@@ -3,7 +3,8 @@
 Each notebook is executed in a fresh Jupyter kernel by nbmake's runner with
 ``SUPCOORD_NOTEBOOK_SMALL=1``, which the first cell (the parameters, tagged
 ``parameters``) turns into CI sizes; a cell that raises fails the test with the
-cell's traceback.  The same run by hand: ``SUPCOORD_NOTEBOOK_SMALL=1 python -m pytest
+cell's traceback, and so does an output holding a warning, a traceback or a study case
+that crashed.  The same run by hand: ``SUPCOORD_NOTEBOOK_SMALL=1 python -m pytest
 --nbmake notebooks/`` (the notebooks also pick small sizes under pytest by themselves).
 The stored notebooks carry no outputs, so diffs stay readable.
 """
@@ -37,6 +38,8 @@ def test_notebook_is_stored_clean_with_a_parameters_cell(path):
     assert "SMALL" in first.source, f"{path.name}: the parameters cell does not define SMALL"
 
 
+@pytest.mark.slow
+@pytest.mark.timeout(300)  # notebook 02 runs a live study on Dask: over a minute on a loaded 2-core machine
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_runs(path, monkeypatch):
     from nbmake.nb_run import NotebookRun
@@ -47,3 +50,21 @@ def test_notebook_runs(path, monkeypatch):
     if result.error is not None:
         pytest.fail(f"{path.name}, cell {result.error.failing_cell_index}: {result.error.summary}\n"
                     f"{result.error.trace}", pytrace=False)
+    noisy = [(i, text[:300]) for i, text in _outputs(result.nb) if any(w in text for w in NOISE)]
+    assert not noisy, f"{path.name}: outputs with a warning, a traceback or a crashed case: {noisy}"
+
+
+#: what the outputs of a clean run never hold (a study case that crashed prints ": crashed")
+NOISE = ("Warning", "Traceback", ": crashed")
+
+
+def _outputs(nb) -> list[tuple[int, str]]:
+    """``(cell index, text)`` of every stream and text output of an executed notebook."""
+    out = []
+    for i, cell in enumerate(nb.cells):
+        for o in cell.get("outputs", []):
+            if o.get("output_type") == "stream":
+                out.append((i, o.get("text", "")))
+            elif "data" in o:
+                out.append((i, str(o["data"].get("text/plain", ""))))
+    return out

@@ -14,7 +14,7 @@ from typing import Any, Iterable
 
 from ..errors import InputError
 
-__all__ = ["BDD", "load_backend", "dag_size", "raise_stack_limit", "STACK_BYTES"]
+__all__ = ["BDD", "load_backend", "quiet_cudd_out_of_memory", "dag_size", "raise_stack_limit", "STACK_BYTES"]
 
 BDD = Any  # a ``dd`` Function; the backends share its interface
 
@@ -45,6 +45,37 @@ def raise_stack_limit(wanted: int = STACK_BYTES) -> int:
     return target
 
 
+_QUIETED: set[str] = set()
+
+
+def quiet_cudd_out_of_memory(module: Any) -> bool:
+    """Make CUDD report a failed allocation instead of ending the process.
+
+    CUDD's default out-of-memory handler (``MMoutOfMemory``, used where a node chunk cannot
+    be allocated) prints ``CUDD: out of memory allocating N bytes`` and calls ``exit(1)``:
+    under a memory limit (:mod:`.memory`) the process would die without a word of JSON.
+    Installing CUDD's own ``Cudd_OutOfMemSilent`` (through ``ctypes``, on the extension
+    ``module`` of ``dd.cudd``) makes the operation fail instead, which ``dd`` raises as an
+    exception.  Returns whether the handler is installed."""
+    path = getattr(module, "__file__", None)
+    if path is None:
+        return False
+    if path in _QUIETED:
+        return True
+    try:
+        import ctypes
+
+        lib = ctypes.CDLL(path)
+        install = lib.Cudd_InstallOutOfMemoryHandler
+        install.restype = ctypes.c_void_p
+        install.argtypes = [ctypes.c_void_p]
+        install(ctypes.cast(lib.Cudd_OutOfMemSilent, ctypes.c_void_p))
+    except (OSError, AttributeError):  # another build of dd: its own handler stays
+        return False
+    _QUIETED.add(path)
+    return True
+
+
 def load_backend(name: str = "auto"):
     """Return the ``dd`` module for ``name`` in {"auto", "cudd", "autoref"} (for CUDD, after
     :func:`raise_stack_limit`)."""
@@ -55,6 +86,7 @@ def load_backend(name: str = "auto"):
             from dd import cudd as _bdd
 
             raise_stack_limit()
+            quiet_cudd_out_of_memory(_bdd)
             return _bdd
         except ImportError:
             if name == "cudd":

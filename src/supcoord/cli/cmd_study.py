@@ -6,7 +6,9 @@
   another in this process (``--workers 0``); each case in a process of its own with its
   time and memory limits; one progress line per case on stderr; every finished case is
   committed to the database at once, so Ctrl-C (exit 130) loses nothing and ``run`` again
-  resumes.  JSON: ``{"status": "finished"|"interrupted", "study", "database", "version",
+  resumes; a case that crashed (a bug, not a time-out, memory or infeasible answer) makes
+  the run exit 1 after the others, with one ``supcoord: error:`` line naming the first.
+  JSON: ``{"status": "finished"|"interrupted", "study", "database", "version",
   "total", "pending", "ran", "statuses", "failed", "left", "workers", "wall_seconds"}``.
 - ``show``: how far the study is (cases done, failed, left) and, per series and size,
   the counts, verdicts, median and maximum seconds, memory and BDD nodes.
@@ -131,7 +133,14 @@ def _run(args, console, study, database) -> CommandResult:
                "failed": summary.failed, "left": summary.left}
     text = (f"{study.name}: {summary.total} cases, {summary.total - summary.pending} done before this run, "
             f"{summary.ran} run now ({summary.failed} failed), {summary.left} left; results in {database}")
-    return CommandResult(payload, text, exit_code=130 if summary.interrupted else 0)
+    crashed = summary.statuses.get("crashed", 0)
+    if summary.interrupted:
+        return CommandResult(payload, text, exit_code=130)
+    if crashed:  # a bug (in supcoord or a called function), not an answer: exit 1 (docs/formats.md)
+        console.error(f"{crashed} of {summary.ran} cases crashed (a bug: the first, {summary.first_crash}); "
+                      f"the others' results are in {database}")
+        return CommandResult(payload, text, exit_code=1)
+    return CommandResult(payload, text)
 
 
 def _show(args, console, study, database) -> CommandResult:

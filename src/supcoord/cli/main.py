@@ -25,6 +25,9 @@ from typing import Any, Callable, Iterator, Sequence
 from .. import __version__
 from ..errors import BudgetExceeded, SupcoordError
 from ..bdd.budget import current_rss
+from ..bdd.memory import RESERVE as CAP_RESERVE
+from ..bdd.memory import MemoryCap
+from . import guard
 from .common import CommandResult, Console, add_common_options, budget_from_args, command_parser, to_jsonable
 
 __all__ = ["main", "build_parser", "COMMANDS"]
@@ -107,6 +110,27 @@ def main(argv: Sequence[str] | None = None) -> int:
         # past a file-size limit (ulimit -f) a write fails with EFBIG, reported in one line, instead of
         # the signal killing the process halfway through a database write
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    max_memory = _memory_budget(args)
+    if max_memory is not None and guard.can_fork():  # the work in a child the budget may end (guard)
+        return guard.run_in_child(lambda: _work(args, console), max_memory,
+                                  lambda reason, stats: _stopped(args, console, reason, stats),
+                                  lambda message: (console.error(message), 1)[1])
+    return _work(args, console)
+
+
+def _memory_budget(args: argparse.Namespace) -> int | None:
+    """The memory budget of a command that takes one (None: none, or options that
+    :func:`_work` will refuse in one line)."""
+    if not hasattr(args, "timeout"):
+        return None
+    try:
+        return budget_from_args(args).max_memory
+    except SupcoordError:
+        return None
+
+
+def _work(args: argparse.Namespace, console: Console) -> int:
+    """The command's work, its output and its exit status (:func:`main`)."""
     restore = _interrupt_once()
     try:
         with _watchdog(args, console):
@@ -125,8 +149,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (RuntimeError, ValueError, MemoryError) as exc:
         if not _out_of_memory(exc):
             raise
-        return _stopped(args, console, f"out of memory in a BDD operation: {_first_line(exc)}",
-                        {"stage": "memory"})
+        return _stopped(args, console, _memory_reason(args, exc), {"stage": "memory"})
     except KeyboardInterrupt:
         console.error("interrupted")
         return 130
@@ -209,7 +232,9 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
     ``SIGUSR2``, a real signal that also ends a sleep; its handler raises
     :class:`BudgetExceeded` with the last progress report as partial statistics).  No interval timer is used, so ``SIGALRM`` stays free for the
     caller (a test runner's own time limit).  A single BDD or numpy operation still runs
-    to its end: the handler runs when the interpreter gets control back.  Main thread only;
+    to its end: the handler runs when the interpreter gets control back; for memory,
+    :class:`~supcoord.bdd.memory.MemoryCap` makes the limit hard (an allocation past it
+    fails, which is then reported like any out-of-memory error, exit 3).  Main thread only;
     elsewhere the fixpoints' own checks are the budget.  Bad values of the options are
     refused here, before any work."""
     if not getattr(args, "func", None) or not hasattr(args, "timeout"):
@@ -217,6 +242,14 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
         return
     budget = budget_from_args(args)
     timeout, max_memory = budget.timeout, budget.max_memory
+    with _sampling(console, timeout, max_memory):  # its thread first: the cap leaves no room for a stack
+        with MemoryCap(max_memory) if max_memory is not None else contextlib.nullcontext():
+            yield
+
+
+@contextlib.contextmanager
+def _sampling(console: Console, timeout: float | None, max_memory: int | None) -> Iterator[None]:
+    """The watchdog's thread (:func:`_watchdog`)."""
     usable = ((timeout is not None or max_memory is not None) and hasattr(signal, "pthread_kill")
               and threading.current_thread() is threading.main_thread())
     if not usable:
@@ -239,10 +272,11 @@ def _watchdog(args: argparse.Namespace, console: Console) -> Iterator[None]:
                 where, stats = where_and_stats()
                 reason.append((f"time budget exceeded {where}: {elapsed:.1f} s > {timeout} s",
                                {**stats, "seconds": elapsed, "watchdog": True}, timeout))
-            elif max_memory is not None and (rss := current_rss()) > max_memory:
+            elif max_memory is not None and (rss := current_rss()) > max_memory - CAP_RESERVE - 2**20:
+                # (at the hard limit's ceiling: past it allocations fail, and CUDD may go on collecting garbage)
                 where, stats = where_and_stats()
-                reason.append((f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident > "
-                               f"{max_memory / 2**20:.0f} MiB",
+                reason.append((f"memory budget exceeded {where}: {rss / 2**20:.0f} MiB resident, at the "
+                               f"budget of {max_memory / 2**20:.0f} MiB",
                                {**stats, "seconds": elapsed, "rss_bytes": rss, "watchdog": True}, max_memory))
             if reason:
                 signal.pthread_kill(main_thread, signal.SIGUSR2)  # a real signal: it also ends a sleep
@@ -285,6 +319,15 @@ def _out_of_memory(exc: BaseException) -> bool:
         return True
     text = str(exc)
     return "run out of memory" in text or "out of memory" in text.lower() or "`NULL` pointer" in text
+
+
+def _memory_reason(args: argparse.Namespace, exc: BaseException) -> str:
+    """Why an allocation failed: the memory budget (``--max-memory``, or its default) that
+    :class:`~supcoord.bdd.memory.MemoryCap` enforces, and what failed."""
+    size = getattr(args, "max_memory", None)
+    budget = f"the memory budget of {size}" if size is not None else "the default memory budget (set it with --max-memory)"
+    return (f"memory budget exceeded (out of memory): an allocation failed at {budget} "
+            f"({type(exc).__name__}: {_first_line(exc)})")
 
 
 def _stopped(args: argparse.Namespace, console: Console, reason: str, stats: dict) -> int:

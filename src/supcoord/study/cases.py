@@ -12,7 +12,7 @@ Budgets: the case's time limit becomes the library's :class:`~supcoord.bdd.budge
 timeout, so a long fixpoint stops cleanly between iterations with the statistics so far
 (status ``timeout``); its memory limit becomes a node budget (80 % of it at 80 bytes per
 node, the command line's rule, ``docs/cli.md``), so a BDD that would not fit stops as
-``out-of-memory`` before the address-space limit (:mod:`.child`) is hit.
+``out-of-memory`` before the hard memory limit (:mod:`.child`) is hit.
 """
 
 from __future__ import annotations
@@ -88,6 +88,11 @@ def outcome_of_exception(exc: BaseException) -> dict[str, Any] | None:
 
 
 def _paper(p: dict[str, Any], budget) -> dict[str, Any]:
+    """The paper's model by the case's route.  What is measured follows what the route
+    builds: the modular and monolithic routes synthesize ``V`` (``bdd_nodes`` is its node
+    count; its states are recorded where the route counted them, ``payload["counted"]``);
+    the settled route builds no ``V`` (``bdd_nodes`` is the peak of live nodes of its
+    search, no states; its search's numbers are in ``extra["settled"]``)."""
     from ..bdd.context import Context
     from ..paper.run import run_paper
 
@@ -97,9 +102,13 @@ def _paper(p: dict[str, Any], budget) -> dict[str, Any]:
                     count_transitions=p["count_transitions"])
     seconds = time.perf_counter() - t0
     pay = run.payload
-    extra = {k: pay.get(k) for k in ("rank", "witness_length", "certificate", "timings", "distinct_components")}
+    extra = {k: pay.get(k) for k in ("route", "rank", "witness_length", "certificate", "timings",
+                                     "distinct_components", "settled", "counted")}
+    extra["peak_nodes"] = ctx.peak_nodes()
     extra["supervisor_transitions"] = None if pay.get("supervisor_transitions") is None else str(pay["supervisor_transitions"])
-    return {"seconds": seconds, "bdd_nodes": pay["bdd_nodes"], **_count(run.supcon.stats["states"]),
+    counted = run.supcon is not None and pay["counted"]
+    nodes = pay["bdd_nodes"] if run.supcon is not None else ctx.peak_nodes()
+    return {"seconds": seconds, "bdd_nodes": nodes, **_count(run.supcon.stats["states"] if counted else None),
             "verdict": "forcible" if pay["ccc"] else "not forcible", "positioners": pay["positioners"],
             "size": pay["positioners"], "extra": extra}
 

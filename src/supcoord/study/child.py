@@ -7,10 +7,13 @@ kills it and anything it started, and a Ctrl-C at the terminal does not reach it
    never outlives the worker that runs it, and exits at once if that parent is already
    gone;
 2. puts the study's ``pythonpath`` folders first on ``sys.path`` (for ``call`` cases) and
-   limits its address space to the case's memory limit (``RLIMIT_AS``: an allocation
-   past it fails with :class:`MemoryError` or CUDD's out-of-memory error, recorded as
-   ``out-of-memory``), before any heavy import;
-3. runs the case (:func:`supcoord.study.cases.run_case`) and writes the measurement to
+   limits its resident memory to the case's memory limit (:class:`~supcoord.bdd.memory.MemoryCap`,
+   ``RLIMIT_DATA`` re-aimed as the case runs: an allocation past it fails with
+   :class:`MemoryError` or CUDD's out-of-memory error, recorded as ``out-of-memory``),
+   before any heavy import;
+3. becomes the subreaper of the processes the case starts, and kills them when the case
+   ends (a case that forks leaves nothing running);
+4. runs the case (:func:`supcoord.study.cases.run_case`) and writes the measurement to
    ``RESULT.json`` (atomically: written beside it, then renamed), or, for an unexpected
    exception, ``{"status": "crashed", "message": ...}`` and exit status 1.
 """
@@ -36,16 +39,48 @@ def _die_with_parent(parent: int | None) -> None:
         os._exit(137)
 
 
-def _limit_memory(mb: float | None) -> None:
-    if mb is None:
-        return
-    import resource
+def _adopt_orphans() -> None:
+    """Become the subreaper of the processes the case starts (Linux
+    ``PR_SET_CHILD_SUBREAPER``): one whose parent exits is re-parented here rather than to
+    init, so :func:`_end_descendants` finds it."""
+    try:
+        import ctypes
 
-    limit = int(mb * 2**20)
-    _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    if hard != resource.RLIM_INFINITY:
-        limit = min(limit, hard)
-    resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+        ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):
+        pass
+
+
+def _end_descendants() -> None:
+    """Kill and reap every process the case started and left running (its children, and
+    through :func:`_adopt_orphans` their orphans), so none outlives the case."""
+    try:
+        import psutil
+    except ImportError:  # pragma: no cover (a dependency of dask.distributed)
+        return
+    for _ in range(3):  # an orphan is re-parented here only once its parent is gone
+        try:
+            left = psutil.Process().children(recursive=True)
+        except psutil.Error:
+            return
+        if not left:
+            return
+        for p in left:
+            try:
+                p.kill()
+            except psutil.Error:
+                pass
+        psutil.wait_procs(left, timeout=2)
+
+
+def _limit_memory(mb: float | None):
+    """The case's hard memory limit (:class:`~supcoord.bdd.memory.MemoryCap`), kept until
+    the process ends (None: no limit)."""
+    if mb is None:
+        return None
+    from ..bdd.memory import MemoryCap
+
+    return MemoryCap(int(mb * 2**20)).__enter__()
 
 
 def _write(path: str, data: dict) -> None:
@@ -56,12 +91,22 @@ def _write(path: str, data: dict) -> None:
 
 
 def main(argv: list[str]) -> int:
-    task_path, result_path = argv
     parent = os.environ.get("SUPCOORD_STUDY_PARENT")
     _die_with_parent(int(parent) if parent and parent.isdigit() else None)
+    _adopt_orphans()
+    task_path, result_path = argv
     with open(task_path, encoding="utf-8") as f:
         task = json.load(f)
-    _limit_memory(task.get("memory_limit_mb"))
+    cap = _limit_memory(task.get("memory_limit_mb"))
+    try:
+        return _run(task, result_path)
+    finally:
+        if cap is not None:
+            cap.release()
+        _end_descendants()
+
+
+def _run(task: dict, result_path: str) -> int:
     sys.set_int_max_str_digits(0)
     sys.path[:0] = task.get("pythonpath") or []
     try:

@@ -69,6 +69,8 @@ class RunSummary:
     interrupted: bool = False
     workers: int = 0
     run: int | None = None
+    #: the first case of this run that crashed: ``"series, parameters: message"`` (None: none)
+    first_crash: str | None = None
 
     @property
     def failed(self) -> int:
@@ -231,6 +233,8 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
             store.record(row)
             summary.ran += 1
             summary.statuses[row["status"]] = summary.statuses.get(row["status"], 0) + 1
+            if row["status"] == "crashed" and summary.first_crash is None:
+                summary.first_crash = f"{case.describe()}: {row.get('message') or 'no message'}"[:300]
             if row["status"] in ("timeout", "out-of-memory"):
                 skips.note(case, row["status"])
             report.finished(case, row)
@@ -273,32 +277,38 @@ def _serial(todo: list[Case], skips: _Skips, finish: Callable, version: str) -> 
         finish(case, _skipped(reason) if reason else execute({**_task(case, version), "worker": "local"}))
 
 
-def dask_case(task: dict[str, Any], stop: str | None = None) -> dict[str, Any]:
-    """The Dask task of one case: :func:`~.isolate.execute` on the worker, polling the
-    run's stop event (a ``distributed.Event``) about once a second."""
-    should_stop = None
-    try:
-        from distributed import Event, get_worker
+#: the stop names of the runs interrupted, set on each worker by :func:`_stop_on_worker`
+_STOPPED: set[str] = set()
 
-        worker = get_worker()
-        task = {**task, "worker": worker.address}
-        if stop:
-            event = Event(stop)
-            should_stop = event.is_set
+
+def _stop_on_worker(stop: str) -> None:
+    """Run on every worker (``Client.run``) when a run is interrupted: its cases stop."""
+    _STOPPED.add(stop)
+
+
+def dask_case(task: dict[str, Any], stop: str | None = None) -> dict[str, Any]:
+    """The Dask task of one case: :func:`~.isolate.execute` on the worker, polling about
+    once a second whether the run named ``stop`` was interrupted (:func:`_stop_on_worker`;
+    a flag of the worker process, so the task needs no client of its own, whose clean-up
+    at the worker's end would print errors)."""
+    try:
+        from distributed import get_worker
+
+        task = {**task, "worker": get_worker().address}
     except (ImportError, ValueError):  # not on a Dask worker
         pass
-    return execute(task, should_stop)
+    return execute(task, (lambda: stop in _STOPPED) if stop else None)
 
 
 def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, workers: int,
           scheduler: str | None) -> None:
     try:
-        from distributed import Client, Event, LocalCluster, as_completed
+        from distributed import Client, LocalCluster, as_completed
         from distributed.scheduler import KilledWorker
     except ImportError as exc:  # pragma: no cover (a dependency)
         raise InputError(f"running on Dask needs dask[distributed] ({exc}); or use --workers 0",
                          value=None, where="--workers") from None
-    cluster = client = event = None
+    cluster = client = stop = None
     try:
         if scheduler is None:
             import logging
@@ -307,14 +317,14 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
             # scheduler's HTTP endpoint on a free port (its default, 8787, may be taken); Dask's own
             # log is silenced (a case's outcome, failures included, is its row; connection
             # errors while the cluster closes are noise)
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=0,
-                                   dashboard_address=":0", silence_logs=logging.CRITICAL)
+            with _workers_deaf_to_ctrl_c():
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=0,
+                                       dashboard_address=":0", silence_logs=logging.CRITICAL)
         try:
             client = Client(cluster if cluster is not None else scheduler, timeout=30)
         except OSError as exc:
             raise InputError(f"cannot reach the Dask scheduler ({exc})", value=scheduler, where="--scheduler") from None
         stop = f"supcoord-stop-{uuid.uuid4().hex}"
-        event = Event(stop, client=client)
         if scheduler is not None:
             versions = set(client.run(code_version).values())
             if versions - {version}:
@@ -353,9 +363,9 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
                 finish(case, row)
             hand_out()
     except KeyboardInterrupt:
-        if event is not None:  # the running cases kill their processes within a second
+        if client is not None and stop is not None:  # the running cases kill their processes within a second
             with contextlib.suppress(Exception):
-                event.set()
+                client.run(_stop_on_worker, stop)
                 if scheduler is not None:  # (an embedded cluster's workers end with it anyway)
                     time.sleep(1.5)
         raise
@@ -364,6 +374,24 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
             if part is not None:
                 with contextlib.suppress(Exception):
                     part.close(timeout=10)
+
+
+@contextlib.contextmanager
+def _workers_deaf_to_ctrl_c():
+    """Start the embedded cluster with SIGINT ignored: its worker processes inherit the
+    ignored signal (a disposition survives ``exec``, and Python then installs no
+    ``KeyboardInterrupt`` handler; a blocked mask would not: multiprocessing resets it), so
+    a Ctrl-C at the terminal, sent to the whole process group, stops this process alone,
+    which stops the cases and closes the cluster, instead of printing a traceback from
+    every worker.  A Ctrl-C during the seconds the cluster takes to start is lost."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 class _sigterm_as_interrupt:

@@ -13,7 +13,7 @@ measurement (:mod:`.cases`) and how it ran: ``status`` is
 - ``ok``: an answer (``verdict`` says which);
 - ``timeout``: the library stopped at the time limit, or the process was killed after it;
 - ``out-of-memory``: an allocation failed under the memory limit (or the node budget it
-  implies ran out);
+  implies ran out; or the process died of a signal after using 80 % of its limit);
 - ``error``: the case's parameters were refused by the library (``message`` says why);
 - ``crashed``: the process died (a signal, such as a segmentation fault) or raised an
   unexpected exception; ``message`` holds what it reported (the last lines of its error
@@ -40,6 +40,9 @@ __all__ = ["FAILED", "STATUSES", "execute", "grace_seconds"]
 STATUSES = ("ok", "timeout", "out-of-memory", "error", "crashed", "lost", "skipped")
 #: the statuses counted as failures in progress lines and summaries
 FAILED = ("timeout", "out-of-memory", "error", "crashed", "lost")
+#: share of its memory limit a case must have used for its death by a signal to count as
+#: running out of memory (supcoord.cli.guard.NEAR_BUDGET)
+NEAR_LIMIT = 0.8
 #: error output of CUDD / the C++ runtime when memory runs out
 _OOM_TEXT = ("bad_alloc", "MemoryError", "out of memory", "Cannot allocate memory")
 
@@ -75,11 +78,13 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
             json.dump(task, f)
         env = {**os.environ, "SUPCOORD_STUDY_PARENT": str(os.getpid()), "OMP_NUM_THREADS": "1",
                "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+        inherited = _high_water()  # a child's ru_maxrss starts at this process's peak (Linux, at exec)
         t0 = time.perf_counter()
         with open(os.path.join(tmp, "stdout.txt"), "wb") as out, open(err_path, "wb") as err:
             proc = subprocess.Popen([sys.executable, "-m", "supcoord.study.child", task_path, result_path],
                                     stdin=subprocess.DEVNULL, stdout=out, stderr=err, env=env, start_new_session=True)
         killed, stopped, status, usage = _wait(proc, t0 + limit + grace_seconds(limit), should_stop)
+        _kill(proc)  # what the case started in its session and left running ends with it
         wall = time.perf_counter() - t0
         result: dict[str, Any] = {}
         if os.path.exists(result_path):
@@ -96,12 +101,29 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
                                              f"{limit:g} s and {grace_seconds(limit):g} s of grace")
     elif not result:
         row.update(status="crashed", message=_death(status, stderr))
-        if any(t in stderr for t in _OOM_TEXT):
-            row["status"] = "out-of-memory"
+        memory = task.get("memory_limit_mb")
+        peak = usage.ru_maxrss * 1024
+        near = memory is not None and peak > inherited and peak >= NEAR_LIMIT * memory * 2**20
+        if any(t in stderr for t in _OOM_TEXT) or (near and os.WIFSIGNALED(status)):
+            row["status"] = "out-of-memory"  # (a few CUDD paths die of SIGSEGV when an allocation fails)
     elif row.get("status") == "crashed" and stderr:
         row["extra"]["stderr"] = stderr
     row.setdefault("message", "")
     return row
+
+
+def _high_water() -> int:
+    """This process's peak resident bytes (``VmHWM``; 0 where unknown).  The kernel carries
+    it into the ``ru_maxrss`` of a child it starts, so only a child's ``ru_maxrss`` above it
+    is the child's own peak."""
+    try:
+        with open("/proc/self/status", "rb") as f:
+            for line in f:
+                if line.startswith(b"VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
 
 
 def _death(status: int, stderr: str) -> str:

@@ -11,7 +11,7 @@ Definitions (``docs/study.md`` has the file format with examples):
   version): a case whose key is in the database is done, so a study resumes where it
   stopped;
 - **limits**: each case runs with a time limit (seconds, default 600) and a memory limit
-  (address space, default 4 GiB), set for the study and overridable per block;
+  (resident memory, a hard limit, default 4 GiB), set for the study and overridable per block;
 - ``skip_larger = "positioners"`` in a block: once a case runs out of time or memory, the
   block's cases with a larger value of that parameter and otherwise the same parameters
   (any seed) are not run (they are recorded as ``skipped``).
