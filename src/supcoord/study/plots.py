@@ -46,11 +46,6 @@ POSITIVE = {"forcible", "complete", "nonempty", "ok"}
 CODES = {"complete": "C", "infeasible": "I", "forcible": "F", "not forcible": "NF", "nonempty": "N", "empty": "E",
          "ok": "ok", "timeout": "T", "out-of-memory": "M", "crashed": "X", "error": "err", "lost": "L", "skipped": "–"}
 NEGATIVE = {"not forcible", "infeasible", "empty"}
-#: no longer used by the figures, which fit every size of a series (:func:`.fit.series_growth`);
-#: kept so that code written against the old fit on the largest sizes still imports
-FIT_SIZES = 4
-
-
 def x_of(row: dict[str, Any]) -> int | None:
     """The x of a row: its positioners, else its size (a family's size parameter)."""
     return row.get("positioners") if row.get("positioners") is not None else row.get("size")
