@@ -124,3 +124,42 @@ def test_timed_plans_of_robots_that_differ_pass_the_validator(case, speed):
     assert total <= stats["lockstep_s"] + 1e-9
     r = validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))
     assert r["valid"], r["problems"][:3]
+
+
+# --- the timing itself -------------------------------------------------------------------------
+
+def _timing(problem, confs, speed):
+    from supcoord.problems.timing import plan_timing
+    from supcoord.problems.trajectory import continuous_angles
+
+    return plan_timing(problem, confs, speed, continuous_angles(problem, confs))
+
+
+def test_each_move_starts_when_the_moves_it_waits_for_have_ended():
+    problem, confs = _three([0.2, 6.0, 1.0])
+    t = _timing(problem, confs, 15.0)
+    assert [(int(s), int(r)) for s, r in zip(t.step, t.robot)] == [(0, 2), (1, 1), (2, 0)]
+    assert np.allclose(np.stack([t.start, t.end], axis=1), [[0.0, 6.0], [6.0, 12.0], [12.0, 12.0 + 40.0 / 15.0]])
+
+
+@pytest.mark.timeout(120)
+@settings(max_examples=40, deadline=None)
+@given(case=walks(), speed=st.sampled_from([5.0, 15.0]))
+def test_a_robots_moves_follow_one_another_and_last_their_own_time(case, speed):
+    """Per robot: its moves in step order, each starting no earlier than the previous one
+    ended and lasting at least its own turn at ``speed``; every move of the plan starts at 0
+    or when some move ends (a move waits only for ends)."""
+    problem, confs = case
+    t = _timing(problem, confs, speed)
+    from supcoord.problems.trajectory import continuous_angles
+
+    angles = continuous_angles(problem, confs)
+    own = np.abs(np.diff(angles, axis=0)).max(axis=2) / speed
+    for p in range(problem.n):
+        mine = np.nonzero(t.robot == p)[0]
+        assert np.all(np.diff(t.step[mine]) > 0)
+        assert np.all(t.end[mine] - t.start[mine] >= own[t.step[mine], p] - 1e-9)
+        assert np.all(t.start[mine][1:] >= t.end[mine][:-1] - 1e-9), (p, t.start[mine], t.end[mine])
+    ends = np.concatenate([[0.0], t.end])
+    assert all(np.isclose(s, ends).any() for s in t.start)
+    assert t.motion_time_s == pytest.approx(float(t.end.max()))
