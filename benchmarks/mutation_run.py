@@ -51,7 +51,7 @@ class Target:
 
 TARGETS = [
     Target("store", "study store", ("study/store.py", "study/execute.py"),
-           ("tests/test_study_resume.py", "tests/test_study_spec.py")),
+           ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
     Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py",)),
@@ -76,9 +76,7 @@ BY_NAME = {t.name: t for t in TARGETS}
 def _prepare(t: Target, work: Path) -> Path:
     """A scratch project for ``t``: ``src/``, ``tests/`` and pyproject.toml with its mutmut section."""
     d = work / t.name
-    if (d / "mutants").is_dir():  # a run to resume: refresh the sources it copies
-        shutil.rmtree(d / "mutants")
-    if d.exists():
+    if d.exists():  # a run to resume: mutmut keeps its verdicts in mutants/ and redoes changed files
         for sub in ("src", "tests"):
             shutil.rmtree(d / sub, ignore_errors=True)
     d.mkdir(parents=True, exist_ok=True)
@@ -93,11 +91,11 @@ def _prepare(t: Target, work: Path) -> Path:
     return d
 
 
-def run(t: Target, work: Path, children: int, limit: float) -> dict:
+def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] = ()) -> dict:
     d = _prepare(t, work)
     env = dict(os.environ, HYPOTHESIS_PROFILE="quick")
     env.pop("PYTHONPATH", None)
-    cmd = ["nice", "-n", "10", sys.executable, "-m", "mutmut", "run", "--max-children", str(children)]
+    cmd = ["nice", "-n", "10", sys.executable, "-m", "mutmut", "run", "--max-children", str(children), *mutants]
     t0 = time.time()
     with open(d / "run.log", "w") as log:
         try:
@@ -210,6 +208,8 @@ def _mutmut_version() -> str:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("modules", nargs="*", help=f"modules to run: {', '.join(BY_NAME)}")
+    ap.add_argument("--mutants", nargs="*", default=[],
+                    help="only these mutants (mutmut's names or patterns such as 'supcoord.problems.timing.*')")
     ap.add_argument("--list", action="store_true", help="list the modules and their tests")
     ap.add_argument("--report", action="store_true", help=f"write {RESULTS.relative_to(ROOT)} from the kept runs")
     ap.add_argument("--show", metavar="MODULE", help="print the diff of every surviving mutant of MODULE")
@@ -231,7 +231,7 @@ def main() -> int:
         print(show(t, args.work, sorted(n for n, s in st.items() if s in ("survived", "suspicious"))))
         return 0
     for name in args.modules:
-        r = run(BY_NAME[name], args.work, args.children, args.limit)
+        r = run(BY_NAME[name], args.work, args.children, args.limit, args.mutants)
         print(f"{name}: {r['seconds']:.0f} s, exit {r['exit']}", flush=True)
     if args.report or args.modules:
         report(args.work, args.out)
