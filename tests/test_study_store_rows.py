@@ -24,7 +24,7 @@ def test_refusals_name_the_file(tmp_path):
     missing = tmp_path / "none.sqlite"
     with pytest.raises(InputError) as info:
         ResultStore(missing, create=False)
-    assert "no results database here yet (run the study first)" in str(info.value)
+    assert str(info.value) == f"{missing}: no results database here yet (run the study first)"
     assert info.value.where == str(missing) and info.value.value == str(missing)
     with ResultStore(missing):  # created
         pass
@@ -61,13 +61,13 @@ def test_a_row_round_trips_numpy_numbers_flags_huge_integers_and_json(tmp_path):
     with ResultStore(tmp_path / "r.sqlite") as db:
         db.record({"key": "k", "study": "s", "status": "ok", "seconds": np.float64(1.25), "size": np.int64(7),
                    "states": 2**63, "verdict": -(2**63), "makespan": 2**63 - 1, "load": True,
-                   "params": {"b": 1, "a": [1, 2]}, "extra": {"z": 1, "a": Path("x")}})
+                   "params": {"b": 1, "a": [1, 2], "p": Path("y")}, "extra": {"z": 1, "a": Path("x")}})
         (row,) = db.rows()
         assert row["seconds"] == 1.25 and isinstance(row["seconds"], float) and row["size"] == 7
         # integers past SQLite's 64 bits are kept as their digits (in a TEXT column: exactly)
         assert row["states"] == str(2**63) and row["verdict"] == str(-(2**63)) and row["makespan"] == 2**63 - 1
         assert row["load"] == 1
-        assert row["params"] == '{"a": [1, 2], "b": 1}'  # canonical JSON: keys sorted
+        assert row["params"] == '{"a": [1, 2], "b": 1, "p": "y"}'  # canonical JSON: keys sorted, paths as text
         assert row["extra"] == {"a": "x", "z": 1}
         raw = db.con.execute("SELECT extra FROM cases").fetchone()[0]
         assert raw == '{"a": "x", "z": 1}'
@@ -128,8 +128,8 @@ def test_pending_cases_come_smallest_first(tmp_path):
     with ResultStore(tmp_path / "r.sqlite") as db:
         assert [c.size for c in pending(study, db, "v")] == [2, 3, 4, 5]
         # a case of no size counts as size 0: first; equal sizes keep the order of their blocks
-        unsized = dataclasses.replace(study.cases[0], size=None)
-        sized_one = dataclasses.replace(study.cases[3], size=1)
+        unsized = dataclasses.replace(study.cases[3], size=None)  # of the later block
+        sized_one = dataclasses.replace(study.cases[0], size=1)
         mixed = dataclasses.replace(study, cases=[sized_one, study.cases[1], unsized])
         assert [c.size for c in pending(mixed, db, "v")] == [None, 1, 3]
 
@@ -164,3 +164,23 @@ def test_skip_larger_remembers_the_smallest_failure_of_each_series(tmp_path):
              "skip_larger": "positioners"}]})
         assert all(_Skips(raised, db, "v").reason(c) is None for c in raised.cases)
         assert json.dumps(sorted(_Skips(study, db, "v").failed.values())) == '[[3, "out-of-memory"]]'
+        # another code version remembers nothing, unless any version counts
+        assert _Skips(study, db, "v2").failed == {}
+        assert _Skips(study, db, "v2", any_version=True).reason(by[(4, 1, 6)]) is not None
+        # a case without skip_larger waits for nothing
+        plain = _paper([2, 3]).cases
+        assert not skips.waits_for(plain[1], [plain[0]]) and skips.reason(plain[1]) is None
+
+
+def test_skip_larger_series_differ_by_every_other_parameter(tmp_path):
+    """One block, two series (steps 6 and 8): a failure in one skips nothing of the other."""
+    study = study_from_dict({"time_limit": 10, "cases": [
+        {"kind": "paper", "steps": [6, 8], "positioners": [2, 3, 4], "skip_larger": "positioners"}]})
+    by = {(c.params["positioners"], c.params["steps"]): c for c in study.cases}
+    assert len({c.block for c in study.cases}) == 1
+    with ResultStore(tmp_path / "r.sqlite") as db:
+        case = by[(2, 6)]
+        db.record({"key": case.key("v"), "params_key": case.params_key, "status": "timeout", "time_limit": 10})
+        skips = _Skips(study, db, "v")
+        assert skips.reason(by[(3, 6)]) is not None and skips.reason(by[(3, 8)]) is None
+        assert skips.waits_for(by[(3, 6)], [by[(2, 6)]]) and not skips.waits_for(by[(3, 6)], [by[(2, 8)]])
