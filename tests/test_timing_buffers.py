@@ -163,3 +163,17 @@ def test_a_robots_moves_follow_one_another_and_last_their_own_time(case, speed):
     ends = np.concatenate([[0.0], t.end])
     assert all(np.isclose(s, ends).any() for s in t.start)
     assert t.motion_time_s == pytest.approx(float(t.end.max()))
+
+
+def test_short_moves_counts_and_lockstep_of_the_timing():
+    """Moves of any length are timed (a 40° turn at 100°/s takes 0.4 s), the counts name
+    every move, lockstep is the sum of each step's slowest move; a plan that stays put has
+    no moves and takes no time."""
+    problem, confs = _three([0.2, 6.0, 1.0])
+    t = _timing(problem, confs, 100.0)
+    assert [(int(s), int(r)) for s, r in zip(t.step, t.robot)] == [(0, 2), (1, 1), (2, 0)]
+    assert np.allclose(t.end - t.start, [0.9, 0.9, 0.4])
+    assert t.stats["moves"] == 3 and t.stats["lockstep_s"] == pytest.approx(0.9 + 0.9 + 0.4)
+    still = _timing(problem, [confs[0], confs[0]], 100.0)
+    assert still.step.shape == (0,) and still.robot.shape == (0,) and still.motion_time_s == 0.0
+    assert still.stats == {"moves": 0, "lockstep_s": 0.0, "pairs": 0, "apart": 0, "ordered": 0, "synchronised": 0}
