@@ -138,6 +138,29 @@ def _survivor_notes() -> dict[str, dict[str, str]]:
     return tomllib.loads(SURVIVORS.read_text()) if SURVIVORS.exists() else {}
 
 
+NOTES = """## How, and what was run
+
+**Tool: mutmut 3** (PyPI, maintained). It works here with pytest and the `src/` layout
+(it copies `src/` to `mutants/src` and puts that first on `sys.path`), mutates a copy, so
+the working tree and other people's edits are never touched, and runs each mutant in a
+forked worker with only the tests that call the mutated function (found by one traced
+run of the module's tests). cosmic-ray, the other candidate, rewrites the files in place
+and starts the test command afresh for every mutant (re-importing numpy, dd and the
+package each time), several times slower on two shared cores.
+
+**Scope.** A module's run is limited to about 25 minutes (`--limit`); mutants it did not
+reach are *not checked* and left out of the score, so a partial run's score is about the
+mutants it checked only. Modules marked *not run* were not run for lack of machine time
+in this session (two cores shared by several people); the command above runs them.
+The study store's tests exclude `tests/test_study_run.py` (whole studies on Dask, whose
+interruption test fails under mutmut's tracing), so `run_study` and the Dask executor are
+*no tests* there. The `.gen` reader's run checked `gen_parser.py`'s mutants only
+(`--mutants 'supcoord.des.io.gen_parser.*'`); the timing's run used
+`tests/test_timing_buffers.py` and `tests/test_sweeps_apart.py` (not the slower
+`tests/test_trajectories.py`).
+"""
+
+
 def report(work: Path, out: Path) -> None:
     notes = _survivor_notes()
     lines = ["# Mutation score (mutmut)", "",
@@ -178,7 +201,7 @@ def report(work: Path, out: Path) -> None:
                            + ", ".join(f"`{f}` ({c})" for f, c in sorted(funcs.items())) + ".")
             details.append("")
         details += [f"- `{n}` ({st[n]}): {note.get(n, 'not yet examined')}" for n in survivors]
-    text = "\n".join(lines + details) + "\n"
+    text = "\n".join(lines) + "\n\n" + NOTES + "\n".join(details) + "\n"
     tmp = out.with_suffix(".md.tmp")
     tmp.write_text(text)
     os.replace(tmp, out)
