@@ -175,5 +175,6 @@ def test_short_moves_counts_and_lockstep_of_the_timing():
     assert np.allclose(t.end - t.start, [0.9, 0.9, 0.4])
     assert t.stats["moves"] == 3 and t.stats["lockstep_s"] == pytest.approx(0.9 + 0.9 + 0.4)
     still = _timing(problem, [confs[0], confs[0]], 100.0)
-    assert still.step.shape == (0,) and still.robot.shape == (0,) and still.motion_time_s == 0.0
+    assert still.step.shape == still.robot.shape == still.start.shape == still.end.shape == (0,)
+    assert still.motion_time_s == 0.0
     assert still.stats == {"moves": 0, "lockstep_s": 0.0, "pairs": 0, "apart": 0, "ordered": 0, "synchronised": 0}
