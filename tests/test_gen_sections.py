@@ -172,3 +172,23 @@ def test_a_range_of_marked_states_holds_its_last_state(tmp_path):
     theirs = _theirs(faudes.Generator(str(path)))
     assert theirs[-1] == {"2", "3", "4"}
     assert _ours(read_gen(path)) == theirs
+
+
+@pytest.mark.parametrize("marked,line,message", [
+    ("<MarkedStates> idle#2 </MarkedStates>", 7, "index suffix not allowed in <MarkedStates>: 'idle#2'"),
+    ("<MarkedStates> 1 2", 8, "missing </MarkedStates>"),
+])
+def test_state_set_refusals_name_the_file_line_and_token(tmp_path, marked, line, message):
+    text = ("<Generator> \"g\"\n<Alphabet> a </Alphabet>\n<States> idle#1 busy#2 </States>\n"
+            "<TransRel>\n1 a 2\n</TransRel> <InitStates> 1 </InitStates>\n" + marked + "\n</Generator>\n")
+    text = text if "</MarkedStates>" in marked else text.replace("\n</Generator>\n", "\n")
+    path = tmp_path / "bad.gen"
+    path.write_text(text)
+    with pytest.raises(Exception):  # libFAUDES refuses it too
+        faudes.Generator(str(path))
+    for read in (lambda: read_gen(path), lambda: parse_text(text, str(path), fast=False)):
+        with pytest.raises(FormatError) as info:
+            read()
+        got = str(info.value)
+        assert got.startswith(f"{path}: line {line}") and message in got and "\n" not in got, got
+        assert info.value.where == str(path)
