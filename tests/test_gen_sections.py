@@ -192,3 +192,18 @@ def test_state_set_refusals_name_the_file_line_and_token(tmp_path, marked, line,
         got = str(info.value)
         assert got.startswith(f"{path}: line {line}") and message in got and "\n" not in got, got
         assert info.value.where == str(path)
+
+
+def test_a_nondeterministic_transition_names_the_lines_of_both(tmp_path):
+    """libFAUDES reads two transitions on one event from one state; supcoord reads
+    deterministic generators only and names the line of each (attributes in between)."""
+    text = ('<Generator> "g"\n<Alphabet> a b </Alphabet>\n<States> 1 2 3 </States>\n<TransRel>\n1 b 3\n'
+            "1 a 2 +x+\n2 a 3\n1 a 3\n</TransRel>\n<InitStates> 1 </InitStates>\n<MarkedStates> </MarkedStates>\n"
+            "</Generator>\n")
+    path = tmp_path / "nd.gen"
+    path.write_text(text)
+    assert len(faudes.Generator(str(path)).ToLists()[-3]) == 4
+    for read in (lambda: read_gen(path), lambda: parse_text(text, str(path), fast=False)):
+        with pytest.raises(NondeterminismError) as info:
+            read()
+        assert str(info.value) == f"{path}: line 8: state 1 has two transitions on 'a', to 2 (line 6) and to 3"
