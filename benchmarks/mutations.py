@@ -7,6 +7,7 @@ when some test fails; the table records which one and how long it took.
 
     python benchmarks/mutations.py                  # every mutation, writes results/mutations.md
     python benchmarks/mutations.py --only sweep     # the mutations whose id contains 'sweep' (or of area 'sweep')
+    python benchmarks/mutations.py --only wrap,gen-range   # several, separated by commas
     python benchmarks/mutations.py --list           # what would run
     python benchmarks/mutations.py --head           # mutate the committed source, not the working tree
     python benchmarks/mutations.py --only timing --out /tmp/m.md   # write the table elsewhere
@@ -126,6 +127,36 @@ MUTATIONS = [
              "        slack = (la[pair] * ws + lb[pair] * wt) / 2",
              "        slack = (la[pair] * ws + lb[pair] * wt) / 4",
              ("tests/test_sweeps_apart.py",), "the Lipschitz bound of two motions at independent times is halved"),
+    # issue 40: a plausible bug of each class the suite did not exercise, and the two weak catches
+    Mutation("wrap-step-forgotten", "tables", "geometry/alpha_beta.py",
+             "        if joint == 0 and self.alpha_range is None:\n"
+             "            steps = np.append(steps, table[0] + 360.0 - table[-1])\n",
+             "",
+             ("tests/test_sweep_heterogeneous.py",),
+             "the largest alpha step of an own angle table leaves out the step across 360° → 0°"),
+    Mutation("timing-one-buffer-twice", "timing", "problems/timing.py",
+             "problem.buffers[robot[a]] + problem.buffers[robot[b]])",
+             "problem.buffers[robot[a]] + problem.buffers[robot[a]])",
+             ("tests/test_timing_buffers.py",), "the clearance of two moves is one robot's buffer twice"),
+    Mutation("timing-waits-for-start", "timing", "problems/timing.py",
+             "        np.maximum.at(ready, dst[lo:hi], end[src[lo:hi]])",
+             "        np.maximum.at(ready, dst[lo:hi], start[src[lo:hi]])",
+             ("tests/test_timing_buffers.py",), "a move waits for its predecessors' start, not their end"),
+    Mutation("descent-single-joints-unmerged", "planner", "planning/descent.py",
+             "        if not mq and len(mp) < 2:", "        if not mq or len(mp) < 2:",
+             ("tests/test_descent_merged.py",),
+             "two neighbours each turning one joint in one descent step are not checked together"),
+    Mutation("resume-oom-inverted", "study", "study/execute.py",
+             "(memory is None or memory >= case.memory_limit_mb)", "(memory is None or memory <= case.memory_limit_mb)",
+             ("tests/test_study_resume.py",), "a case out of memory counts as done after its limit is raised"),
+    Mutation("gen-range-short", "io", "des/io/gen_parser.py",
+             "            out.extend(range(first, last + 1))", "            out.extend(range(first, last))",
+             ("tests/test_gen_sections.py",), "a <Consecutive> range in a state set is read without its last state"),
+    Mutation("saturation-no-final-pass", "reachability", "synthesis/reachability.py",
+             "        if not dirty:\n"
+             "            dirty = {j for j, cl in enumerate(clusters) if any(seen[i] != x for i in cl)}\n",
+             "",
+             ("tests/test_reachability_within.py",), "saturation stops without checking that no cluster changes"),
 ]
 
 
@@ -159,7 +190,8 @@ def run(m: Mutation, timeout: float) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", help="run the mutations whose id contains this text, or of this area")
+    ap.add_argument("--only", help="run the mutations whose id contains this text, or of this area "
+                                   "(several: separated by commas)")
     ap.add_argument("--list", action="store_true", help="list the mutations and stop")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per mutation (default 900)")
     ap.add_argument("--head", action="store_true", help="mutate the committed source (git HEAD), not the working tree")
@@ -167,7 +199,8 @@ def main() -> int:
     args = ap.parse_args()
     global HEAD_ONLY
     HEAD_ONLY = args.head
-    chosen = [m for m in MUTATIONS if not args.only or args.only in m.id or args.only == m.area]
+    wanted = args.only.split(",") if args.only else []
+    chosen = [m for m in MUTATIONS if not wanted or any(w in m.id or w == m.area for w in wanted)]
     if args.list:
         for m in chosen:
             print(f"{m.id:36} {m.area:22} {m.path}: {m.what}")
