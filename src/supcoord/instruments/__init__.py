@@ -8,6 +8,7 @@ segment, buffers, joint ranges and folded lattice, each number with its source.
 ``docs/instruments.md``.
 """
 
+from .acceptance import CollisionDefinition, MotionLimits, collision_definition, motion_limits
 from .sdss_v import (
     INSTRUMENTS,
     InstrumentGeometry,
@@ -26,4 +27,8 @@ __all__ = [
     "fibre_xy",
     "fibre_joints",
     "robot_collision_distance",
+    "CollisionDefinition",
+    "MotionLimits",
+    "collision_definition",
+    "motion_limits",
 ]
