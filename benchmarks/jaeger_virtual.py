@@ -55,7 +55,7 @@ async def run(paths: dict, starts: dict, speedup_log: list) -> dict:
     config["fps"]["use_lock"] = False
     config["safe_mode"] = False
     config["positioner"]["trajectory_dump_path"] = "/tmp/jaeger_virtual_dumps"
-    config["fps"]["initialise_timeouts"] = 0.05
+    config["fps"]["initialise_timeouts"] = max(0.5, len(paths) / 50)  # every virtual positioner answers GET_ID
 
     received: dict[int, dict[str, list[bytes]]] = {}
 
@@ -93,6 +93,9 @@ async def run(paths: dict, starts: dict, speedup_log: list) -> dict:
         vp = RunningPositioner(pid, bus=fps._vpositioner_bus, position=tuple(starts[pid]))
         fps._vpositioners[pid] = vp
     await fps.initialise()
+    missing = sorted(set(paths) - set(fps.positioners))
+    if missing:
+        raise RuntimeError(f"{len(missing)} virtual positioners did not answer jaeger's initialisation: {missing[:5]}")
     t0 = time.perf_counter()
     try:
         traj = await send_trajectory(fps, paths, use_sync_line=False, dump=False)

@@ -210,3 +210,14 @@ def test_cli_mistakes_are_one_line_exit_2(tmp_path, argv, where):
     code, out, err = _cli(*argv)
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and where in err, err
     assert not (tmp_path / "p.json").exists()
+
+
+def test_offline_robots_are_left_out():
+    data = json.loads(EXAMPLE.read_text())
+    data["offline"] = {"5": [10.0, 170.0]}
+    problem = parse_problem(data)
+    plan = solve(problem, improve=0)
+    assert plan.status == "complete"
+    out = jaeger_paths(problem, plan, rpm=2)
+    assert "5" not in out.paths and len(out.paths) == problem.n - 1
+    assert check_jaeger(problem, out.to_json()).valid   # the check holds an unlisted robot at its start

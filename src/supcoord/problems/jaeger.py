@@ -6,8 +6,9 @@ joint's points, its own number of them, angle first and time (seconds) second; t
 moves linearly in time between points and holds the last.  kaiju's ``getPathPair`` writes the
 same, one path to the targets and one back.  :func:`jaeger_paths` writes a complete plan so:
 
-- keys: the instrument table's positioner IDs (as strings, as JSON has them); for a problem
-  without an instrument, the robot's index;
+- keys: the instrument table's positioner IDs (as strings, as JSON has them; jaeger's
+  ``send_trajectory`` takes them as integers); for a problem without an instrument, the
+  robot's index; offline robots (``"offline"``) are left out, as kaiju leaves them out;
 - timing: the plan's own (:mod:`.timing`: each robot at its own pace, a neighbour waiting only
   where their motions can meet) at the joint speed ``rpm`` (1 RPM = 6°/s; default the
   instrument's, SDSS-V 2 RPM, at most ``max_rpm``), every time shifted by ``start_delay_s``
@@ -185,6 +186,8 @@ def jaeger_paths(problem: Problem, plan: Plan, *, rpm: float | None = None, acce
     paths: dict[str, dict[str, list[list[float]]]] = {}
     fastest, count = 0.0, 0
     for p, key in enumerate(positioner_keys(problem)):
+        if p in problem.held:  # offline: jaeger refuses a trajectory for a disabled positioner
+            continue
         robot = {}
         for j, name in enumerate(names):
             pts = [(0.0, float(angles[0, p, j]))]
