@@ -118,6 +118,9 @@ def main(argv=None) -> int:
     ap.add_argument("paths")
     ap.add_argument("--reverse", action="store_true", help="PATHS.json runs from the targets to the starts")
     ap.add_argument("--out", help="write the result JSON here")
+    ap.add_argument("--max-robots", type=int, default=None,
+                    help="send only the N robots with the most points (a loaded machine's virtual bus may not "
+                         "answer jaeger's initialisation for all 500 in time)")
     args = ap.parse_args(argv)
     os.environ.setdefault("OBSERVATORY", "APO")  # jaeger reads its site's configuration on import
     from supcoord.problems.problem import load_problem
@@ -126,6 +129,9 @@ def main(argv=None) -> int:
     problem = load_problem(args.problem)
     with open(args.paths) as f:
         data = json.load(f)
+    if args.max_robots:
+        busiest = sorted(data, key=lambda k: -(len(data[k]["alpha"]) + len(data[k]["beta"])))[:args.max_robots]
+        data = {k: data[k] for k in busiest}
     paths = {int(k): v for k, v in data.items()}  # jaeger keys positioners by int
     from supcoord.problems.jaeger import positioner_keys
 
