@@ -125,8 +125,8 @@ def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:
         what = (f"positioners {f['positioner_ids'][0]} and {f['positioner_ids'][1]} (robots {f['robots'][0]}, "
                 f"{f['robots'][1]})" if "obstacle" not in f else
                 f"positioner {f['positioner_ids'][0]} (robot {f['robots'][0]}) and obstacle {f['obstacle']}")
-        lines.append(f"first collision: {what} at t = {f['time_s']:.3f} s, clearance {f['clearance_mm']:.4f} mm "
-                     f"({f['distance_mm']:.4f} < {f['required_mm']:.4f} mm)")
+        lines.append(f"first collision: {what} at t = {f['time_s']:.3f} s, clearance {f['clearance_mm']:.3g} mm "
+                     f"({f['distance_mm']:.6f} < {f['required_mm']:.6f} mm)")
     if res.min_clearance_mm is not None:
         lines.append(f"smallest clearance beyond the buffers: {res.min_clearance_mm:.4f} mm")
     lines += [f"  - {p}" for p in res.problems]
