@@ -27,7 +27,8 @@ __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
 EXAMPLE = """examples:
   supcoord check problem.json plan.json --json
   -> {"valid": true, "collisions": 0, "at_target": 19, "problems": [], ...}
-  supcoord check problem.json plan.json --figure collisions.png   # draws each collision found"""
+  supcoord check problem.json plan.json --figure collisions.png   # draws each collision found
+  supcoord check problem.json --jaeger paths.json   # a trajectory in jaeger's format"""
 
 
 HELP = "validate a plan geometrically, independently of the planner"
@@ -42,7 +43,14 @@ BUDGETS = False  # no --max-nodes/--backend (no BDDs); --timeout and --max-memor
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """``supcoord check``'s own options (:func:`.main.build_parser` adds the common ones)."""
     add_problem_argument(p)
-    p.add_argument("plan", metavar="PLAN.json", help="the plan to check")
+    p.add_argument("plan", metavar="PLAN.json", nargs="?", help="the plan to check (or --jaeger)")
+    p.add_argument("--jaeger", metavar="PATHS.json",
+                   help="check a trajectory in SDSS-V's jaeger format instead of a plan: the motion linear in time "
+                        "between its points, every robot at once, and its joint speeds")
+    p.add_argument("--reverse", action="store_true",
+                   help="with --jaeger: the trajectory runs back, from the targets to the starts (--jaeger-reverse)")
+    p.add_argument("--max-rpm", type=float, help="the speed limit for --jaeger in RPM (default the instrument's: "
+                                                 "SDSS-V 3)")
     p.add_argument("--resolution", type=float, default=0.05, metavar="MM",
                    help="first sampling of each step, in mm of motion between samples (default 0.05, "
                         "from 1e-4 to 100); the verdict does not depend on it: what the samples leave "
@@ -87,6 +95,11 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if not lo <= args.resolution <= hi:
         raise InputError(f"must be a number of mm in [{lo:g}, {hi:g}], got {args.resolution}",
                          value=args.resolution, where="--resolution")
+    jaeger = getattr(args, "jaeger", None)
+    if (args.plan is None) == (jaeger is None):
+        raise InputError("give a PLAN.json or --jaeger PATHS.json (exactly one)", value=args.plan, where="check")
+    if jaeger is not None:
+        return _run_jaeger(args, console)
     figure_suffix(args.figure, [args.problem, args.plan])
     console.progress("load", {"file": args.problem})
     problem = _load_problem(args.problem, args.plan)
@@ -114,3 +127,36 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if args.figure:
         lines.append(f"figure written to {args.figure}")
     return CommandResult(payload=result, text="\n".join(lines))
+
+
+def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:
+    """``check PROBLEM --jaeger PATHS.json``: :func:`supcoord.problems.validate_jaeger.check_jaeger`."""
+    from ..errors import InputError
+    from ..problems.validate_jaeger import check_jaeger
+
+    if args.figure:
+        raise InputError("--figure draws plans; it is not available with --jaeger", value=args.figure,
+                         where="--figure")
+    problem = load_problem(args.problem)
+    for warning in problem.warnings:
+        console.warn(warning)
+    try:
+        res = check_jaeger(problem, args.jaeger, max_rpm=args.max_rpm, reverse=args.reverse,
+                           resolution=args.resolution)
+    except InputError as exc:
+        raise InputError(exc.message, value=exc.value, where="--max-rpm" if exc.where == "max_rpm" else exc.where) \
+            from None
+    lines = [f"{'VALID' if res.valid else 'INVALID'}: {res.points} points, {res.collisions} collisions, motion "
+             f"{res.motion_time_s:.3f} s, fastest joint {res.max_speed_deg_s:.4g} deg/s (limit "
+             f"{res.speed_limit_deg_s:g})"]
+    if res.first is not None:
+        f = res.first
+        what = (f"positioners {f['positioner_ids'][0]} and {f['positioner_ids'][1]} (robots {f['robots'][0]}, "
+                f"{f['robots'][1]})" if "obstacle" not in f else
+                f"positioner {f['positioner_ids'][0]} (robot {f['robots'][0]}) and obstacle {f['obstacle']}")
+        lines.append(f"first collision: {what} at t = {f['time_s']:.3f} s, clearance {f['clearance_mm']:.3g} mm "
+                     f"({f['distance_mm']:.6f} < {f['required_mm']:.6f} mm)")
+    if res.min_clearance_mm is not None:
+        lines.append(f"smallest clearance beyond the buffers: {res.min_clearance_mm:.4f} mm")
+    lines += [f"  - {p}" for p in res.problems]
+    return CommandResult(payload=res.to_json(), text="\n".join(lines))

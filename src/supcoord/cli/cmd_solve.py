@@ -33,7 +33,8 @@ EXAMPLE = """examples:
   supcoord solve problem.json --json --timeout 60
   -> {"status": "complete", "configurations": [...], "makespan": 9, "lower_bound": 6, ...}
   supcoord solve problem.json --route monolithic     # the plain whole-grid method
-  supcoord solve problem.json --out plan.json --speed 30 --trajectories-csv traj.csv"""
+  supcoord solve problem.json --out plan.json --speed 30 --trajectories-csv traj.csv
+  supcoord solve apo.json --jaeger paths.json --jaeger-reverse back.json --rpm 2"""
 
 
 HELP = "plan collision-free moves from start to target (or prove none exists)"
@@ -57,6 +58,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "motion_time_s (each robot at its own pace; a neighbour waits only where their motions can meet)")
     p.add_argument("--trajectories-csv", metavar="FILE.csv",
                    help="write the trajectories as robot,joint,t_s,deg rows (needs --speed)")
+    p.add_argument("--jaeger", metavar="PATHS.json",
+                   help="write the plan as SDSS-V's robot controller jaeger's trajectory (to the targets): "
+                        "{positioner_id: {alpha: [[deg, s], ...], beta: [...]}}")
+    p.add_argument("--jaeger-reverse", metavar="BACK.json", help="write jaeger's trajectory back to the starts")
+    p.add_argument("--rpm", type=float, help="joint speed of the jaeger trajectories in RPM (default the "
+                                             "instrument's: SDSS-V 2, at most 3)")
+    p.add_argument("--acceleration", type=float, metavar="DEG_PER_S2",
+                   help="joint acceleration limit of the jaeger trajectories (default: none)")
+    p.add_argument("--start-delay", type=float, metavar="S",
+                   help="seconds before the jaeger trajectories' first motion (default the instrument's: SDSS-V 1)")
     p.add_argument("--single-move-only", action="store_true",
                    help="answer infeasible as soon as no plan moves one joint at a time (default: then search "
                         "plans with several joints and positioners moving at once before answering)")
@@ -128,8 +139,12 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         if Path(csv).suffix.lower() != ".csv":
             raise InputError(f"must end in .csv, got {csv!r}", value=csv, where="--trajectories-csv")
         writable(csv, "--trajectories-csv", [args.problem])
+    jaeger = {flag: getattr(args, name, None) for flag, name in (("--jaeger", "jaeger"),
+                                                                 ("--jaeger-reverse", "jaeger_reverse"))}
+    for flag, f in jaeger.items():
+        writable(f, flag, [args.problem])
     outputs = [(flag, Path(f).absolute()) for flag, f in (("--out", args.out), ("--figure", args.figure),
-                                                           ("--trajectories-csv", csv)) if f]
+                                                           ("--trajectories-csv", csv), *jaeger.items()) if f]
     for i, (flag, path) in enumerate(outputs):
         for other, there in outputs[i + 1:]:
             if path == there:
@@ -138,6 +153,14 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
+    if any(jaeger.values()):  # the limits refused before the work
+        from ..problems.jaeger import jaeger_limits
+
+        try:
+            jaeger_limits(problem, args.rpm, args.acceleration, args.start_delay)
+        except InputError as exc:
+            flag = {"rpm": "--rpm", "acceleration": "--acceleration", "start_delay_s": "--start-delay"}
+            raise InputError(exc.message, value=exc.value, where=flag.get(str(exc.where), exc.where)) from None
     plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
                  progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only,
                  refine=not args.no_refine)
@@ -149,6 +172,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         from ..problems.trajectory import trajectories_csv
 
         atomic_write_text(csv, trajectories_csv(plan.trajectories), what="--trajectories-csv")
+    exported = _write_jaeger(problem, plan, args, jaeger)
     if args.figure:
         from ..figures.plan import save_plan_figure
 
@@ -173,7 +197,28 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if csv is not None:
         text += (f"\ntrajectories written to {csv}" if plan.trajectories is not None
                  else f"\nno trajectories (the plan is {plan.status}): {csv} not written")
+    text += exported
     if args.figure:
         text += f"\nfigure written to {args.figure}"
     # docs/formats.md: "unknown" (a budget ran out) exits 3, also when the planner returns it as a plan
     return CommandResult(payload=plan.to_json(problem), text=text, exit_code=3 if plan.status == "unknown" else 0)
+
+
+def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
+    """Write ``--jaeger``/``--jaeger-reverse`` for a complete plan; the lines saying so."""
+    from ..problems.jaeger import jaeger_paths, write_jaeger
+
+    text = ""
+    for flag, path in files.items():
+        if path is None:
+            continue
+        if plan.status != "complete":
+            text += f"\nno jaeger trajectory (the plan is {plan.status}): {path} not written"
+            continue
+        paths = jaeger_paths(problem, plan, rpm=args.rpm, acceleration=args.acceleration,
+                             start_delay_s=args.start_delay, reverse=flag == "--jaeger-reverse")
+        write_jaeger(path, paths, (args.problem,))
+        text += (f"\njaeger trajectory {'back to the starts' if flag == '--jaeger-reverse' else 'to the targets'} "
+                 f"written to {path} ({paths.points} points, {paths.motion_time_s:.3f} s at "
+                 f"{paths.speed_deg_s:g} deg/s)")
+    return text

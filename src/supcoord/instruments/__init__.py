@@ -10,6 +10,7 @@ segment, buffers, joint ranges and folded lattice, each number with its source.
 and :func:`wok_problem` (a PROBLEM.json object). See ``docs/instruments.md``.
 """
 
+from .acceptance import CollisionDefinition, MotionLimits, collision_definition, motion_limits
 from .sdss_v import (
     INSTRUMENTS,
     InstrumentGeometry,
@@ -33,4 +34,8 @@ __all__ = [
     "random_wok_targets",
     "wok_targets",
     "wok_problem",
+    "CollisionDefinition",
+    "MotionLimits",
+    "collision_definition",
+    "motion_limits",
 ]

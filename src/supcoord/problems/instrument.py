@@ -8,8 +8,11 @@ and kaiju's joint rule for robots beside a fiducial, all as SDSS-V's planner kai
 ``kinematics`` and ``collision`` may be omitted: then the joints have the instrument's hard
 stops (alpha [0°, 360°], beta [0°, 180°], where SDSS-V operates its targets) and
 :data:`DEFAULT_STEPS` positions; given, they may set ``alpha_steps``, ``beta_steps``,
-``alpha_range``, ``beta_range`` and ``collision.buffer``/``margin``, never the arm lengths,
-which are measured per robot.  ``"fibre"`` (default ``"boss"``) chooses the fibre that
+``alpha_range``, ``beta_range`` and ``collision.buffer``/``margin``/``obstacle_margin``, never
+the arm lengths, which are measured per robot.  ``collision`` defaults to the instrument's own
+definition (:func:`supcoord.instruments.collision_definition`; SDSS-V: kaiju's, buffer 2.0 mm,
+margin 0.0782 mm between robots, none to obstacles), so that a plan passes the instrument's
+own check; a ``margin`` given without ``obstacle_margin`` applies to both, as elsewhere.  ``"fibre"`` (default ``"boss"``) chooses the fibre that
 ``xy_mm`` targets place.
 """
 
@@ -22,7 +25,7 @@ import numpy as np
 from ..errors import FormatError, InputError
 from ..geometry.kinematics import AlphaBeta
 from ..geometry.layout import _short
-from ..instruments import INSTRUMENTS, load_instrument
+from ..instruments import INSTRUMENTS, CollisionDefinition, collision_definition, load_instrument
 
 __all__ = ["DEFAULT_STEPS", "InstrumentSetup", "instrument_setup", "LAYOUT_FIELDS"]
 
@@ -48,6 +51,8 @@ class InstrumentSetup:
     obstacles: np.ndarray
     obstacle_buffers: np.ndarray
     joint_rules: dict[int, tuple[float, float]]
+    #: the instrument's own collision definition, the default of ``collision``
+    collision: CollisionDefinition
 
 
 def instrument_setup(layout: dict, data: dict, where: str | None) -> InstrumentSetup:
@@ -97,7 +102,8 @@ def instrument_setup(layout: dict, data: dict, where: str | None) -> InstrumentS
     if "fibre" in layout:
         out_layout["fibre"] = fibre
     return InstrumentSetup(out_layout, nominal, robots, np.array(geom.bases, float), float(geom.robot_buffer),
-                           np.array(geom.obstacles, float), np.array(geom.obstacle_buffers, float), rules)
+                           np.array(geom.obstacles, float), np.array(geom.obstacle_buffers, float), rules,
+                           collision_definition(name))
 
 
 def _fiducial_rule() -> tuple[float, float]:

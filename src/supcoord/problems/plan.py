@@ -152,6 +152,8 @@ class Plan:
         out.update(motion_to_json(self))
         if self.lattice is not None:
             out["lattice"] = [int(s) for s in self.lattice]
+        if problem is not None:  # the collision definition the plan was made and checked under
+            out["collision"] = problem.collision_statement()
         return out
 
     def dump(self, path: str | Path, kin: Kinematics | Problem) -> None:

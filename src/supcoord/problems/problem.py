@@ -36,6 +36,7 @@ from ..progress import summary_html, summary_repr
 from ..geometry.collision import DEFAULT_TOL, CollisionTables, colliding_pairs, neighbour_pairs
 from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tables, unary_tables
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
+from ..instruments import CollisionDefinition
 from ..geometry.layout import _short, layout_from_spec
 from .instrument import instrument_setup, problem_fibre
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
@@ -86,6 +87,9 @@ class Problem:
     #: ``β < c0 + c1·α`` (degrees) are forbidden (kaiju's rule for robots beside a fiducial)
     joint_rules: dict[int, tuple[float, float]] = field(default_factory=dict, repr=False)
     _unary: dict | None = field(default=None, repr=False)
+    #: the collision definition the buffers and margins are (an instrument's own, e.g. SDSS-V's
+    #: ``"sdss-v kaiju"``), or ``None`` (the file's own numbers)
+    collision_definition: CollisionDefinition | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         # read-only arrays: nothing changes a problem in place behind its caches (.consistency)
@@ -245,9 +249,23 @@ class Problem:
     def at_target(self, positions: Any) -> np.ndarray:
         return np.all(np.asarray(positions) == self.target, axis=-1)
 
+    def collision_statement(self) -> dict:
+        """PLAN.json's ``collision``: the definition the plan was made and checked under
+        (``definition``: the instrument's name for it, or ``"problem"``), its robot buffer,
+        margin between robots and margin to fixed obstacles (mm)."""
+        if self.collision_definition is not None:
+            return self.collision_definition.to_json()
+        buf = self.buffers - self.margin / 2
+        om = self.margin if self.obstacle_margin is None else self.obstacle_margin
+        return {"definition": "problem",
+                "buffer_mm": float(buf[0]) if len(buf) and np.all(buf == buf[0]) else [float(v) for v in buf],
+                "margin_mm": float(self.margin), "obstacle_margin_mm": float(om)}
+
     def to_json(self) -> dict:
         buf = self.buffers - self.margin / 2
         buffer: Any = float(buf[0]) if np.all(buf == buf[0]) else [float(v) for v in buf]
+        if self.collision_definition is not None:  # its own numbers, not re-derived ones
+            buffer = self.collision_definition.buffer_mm
         collision: dict[str, Any] = {"buffer": buffer}
         if self.margin:
             collision["margin"] = self.margin
@@ -322,9 +340,13 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
         raise InputError(f"layout has {n} positioners, more than the supported {MAX_POSITIONERS}", value=n, where=where)
     kin = setup.kinematics if setup else kinematics_from_spec(data["kinematics"], where)
     base_kins = setup.robots if setup else None
-    collision = data.get("collision", {"buffer": setup.buffer} if setup else None)
-    if setup and isinstance(collision, dict) and "buffer" not in collision:
-        collision = dict(collision, buffer=setup.buffer)
+    collision = data.get("collision", {} if setup else None)
+    if setup and isinstance(collision, dict):  # the instrument's own definition where the file is silent
+        own = setup.collision
+        margin_given = "margin" in collision
+        collision = dict({"buffer": own.buffer_mm, "margin": own.margin_mm}, **collision)
+        if not margin_given:
+            collision.setdefault("obstacle_margin", own.obstacle_margin_mm)
     buffers = _buffers(collision, n, where)
     margin = _margin(collision, where)
     obstacle_margin = _margin(collision, where, "obstacle_margin", margin)
@@ -360,7 +382,8 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
                       obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
                       obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
-                      joint_rules=setup.joint_rules if setup else {})
+                      joint_rules=setup.joint_rules if setup else {},
+                      collision_definition=_definition_name(setup, buffers, margin, obstacle_margin))
     unlock_lattices(problem)  # robots their obstacles would lock in on a coarse lattice
     start, target = problem.start, problem.target
     if check_collisions:
@@ -375,3 +398,13 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
                     value=[a, b], where=where)
             _check_fixed(problem, name, conf, where)
     return problem
+
+
+def _definition_name(setup: Any, buffers: np.ndarray, margin: float,
+                     obstacle_margin: float) -> CollisionDefinition | None:
+    """The instrument's definition when the problem's numbers are exactly it, else None."""
+    if setup is None:
+        return None
+    own = setup.collision
+    same = (np.all(buffers == own.buffer_mm) and margin == own.margin_mm and obstacle_margin == own.obstacle_margin_mm)
+    return own if same else None

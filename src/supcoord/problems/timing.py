@@ -49,6 +49,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -81,11 +82,15 @@ class Timing:
     stats: dict = field(default_factory=dict)
 
 
-def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarray) -> Timing:
+def plan_timing(problem: Problem, configurations, speed: float, angles: np.ndarray,
+                duration: Callable[[np.ndarray], np.ndarray] | None = None) -> Timing:
     """The dependency timing (module docstring) of ``configurations`` at joint ``speed``
-    (deg/s, checked by the caller), ``angles`` their continuous joint angles ``(T+1, N, J)``."""
+    (deg/s, checked by the caller), ``angles`` their continuous joint angles ``(T+1, N, J)``;
+    ``duration`` (default ``|Δθ| / speed``) maps each move's largest joint turn (degrees) to
+    its time (s), e.g. with acceleration ramps; it must be 0 exactly for no turn."""
     confs = np.asarray(configurations, dtype=np.int64)
-    own = np.abs(np.diff(angles, axis=0)).max(axis=2, initial=0.0) / speed  # (T, N)
+    turn = np.abs(np.diff(angles, axis=0)).max(axis=2, initial=0.0)  # (T, N)
+    own = turn / speed if duration is None else np.where(turn > 0, duration(turn), 0.0)
     step, robot = np.nonzero(own > 0)  # sorted by step, then robot
     duration = own[step, robot]
     n_moves = len(step)
