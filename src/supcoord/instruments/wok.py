@@ -10,10 +10,11 @@ table's row order (``docs/instruments.md``).  These helpers write those lists:
   as fibre positions in wok mm (the fibre named) or as joint angles, the other robots folded;
 - :func:`wok_problem`: a PROBLEM.json object from a start and a target.
 
-Collisions are the project's definition on the instrument's numbers (``docs/architecture.md``):
-two robots collide when their beta segments are closer than the sum of their buffers
-(2.0 + 2.0 mm), a robot and a fiducial or guide camera when closer than 2.0 + 3.0 mm, and a
-robot under kaiju's fiducial rule when ``β < 41.2853 − 1.3085·α``.  Angles are kaiju's
+Collisions are the instrument's own definition (:func:`.acceptance.collision_definition`,
+the default of a problem on the wok): two robots collide when their beta segments are closer
+than the sum of their buffers plus kaiju's step margin (2.0 + 2.0 + 0.0782 mm), a robot and a
+fiducial or guide camera when closer than 2.0 + 3.0 mm, and a robot under kaiju's fiducial
+rule when ``β < 41.2853 − 1.3085·α``.  Angles are kaiju's
 commanded angles in degrees, within the problem's joint ranges (α in [0°, 360°), β in
 [0°, 180°]), so :func:`supcoord.parse_problem` accepts what these return.
 """
@@ -27,6 +28,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.segments import point_segment_distance, segment_distance
+from .acceptance import collision_definition
 from .sdss_v import FIBRES, FIDUCIAL_WATCH, InstrumentGeometry, fibre_joints, fibre_xy, load_instrument, robot_forward
 
 __all__ = ["folded_configuration", "random_wok_targets", "wok_targets", "wok_problem", "TARGET_BETA_RANGE"]
@@ -79,11 +81,12 @@ def _collided(geom: InstrumentGeometry, angles: np.ndarray, pairs: np.ndarray) -
     hit = np.zeros(n, dtype=bool)
     a, b = pairs[:, 0], pairs[:, 1]
     d = segment_distance(seg[a, 0], seg[a, 1], seg[b, 0], seg[b, 1])
-    close = d < 2 * geom.robot_buffer + _SAFETY_MM
+    rule = collision_definition(geom.name)
+    close = d < 2 * rule.buffer_mm + rule.margin_mm + _SAFETY_MM
     hit[a[close]] = hit[b[close]] = True
     obs = geom.obstacles
     d_obs = segment_distance(seg[:, None, 0], seg[:, None, 1], obs[None, :, 0], obs[None, :, 1])
-    hit |= np.any(d_obs < geom.robot_buffer + geom.obstacle_buffers[None] + _SAFETY_MM, axis=1)
+    hit |= np.any(d_obs < rule.buffer_mm + geom.obstacle_buffers[None] + rule.obstacle_margin_mm + _SAFETY_MM, axis=1)
     if geom.fiducial_watch is not None:
         c0, c1 = FIDUCIAL_WATCH
         hit |= geom.fiducial_watch & (angles[:, 1] < c0 + c1 * angles[:, 0] + 1e-9)
