@@ -93,3 +93,19 @@ def test_a_command_over_its_memory_budget_exits_3_within_5_percent():
     assert json.loads(out)["status"] == "unknown" and "memory budget exceeded" in err
     assert "Traceback" not in err
     assert peak <= 1.05 * 150 * 2**20
+
+
+@pytest.mark.timeout(60)
+def test_a_bug_in_the_forked_work_still_prints_its_traceback():
+    """Under a memory budget the work runs in a forked child (:mod:`supcoord.cli.guard`); a bug
+    there is exit 1 with its traceback, as without a budget, not a silent exit 1."""
+    code = ("import sys\n"
+            "from supcoord.cli import cmd_paper\n"
+            "def broken(args, console):\n"
+            "    raise ValueError('a planted bug')\n"
+            "cmd_paper.run = broken\n"
+            "from supcoord.cli.main import main\n"
+            "sys.exit(main(['paper', '--positioners', '2', '--steps', '4', '--max-memory', '2G']))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=50)
+    assert proc.returncode == 1
+    assert "Traceback" in proc.stderr and "ValueError: a planted bug" in proc.stderr

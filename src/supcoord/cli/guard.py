@@ -65,6 +65,12 @@ def run_in_child(work: Callable[[], int], max_memory: int,
         try:
             _die_with_parent()
             code = work()
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else 1
+        except BaseException:  # a bug: its traceback, as the command would print it unforked
+            import traceback
+
+            traceback.print_exc()
         finally:
             for stream in (sys.stdout, sys.stderr):
                 try:

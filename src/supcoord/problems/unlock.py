@@ -166,6 +166,15 @@ def lattice_holding(table: np.ndarray, needed: list[float], keep: list[float], w
     return np.array(values)
 
 
+def _with_row(rows: np.ndarray, p: int, value: Any) -> np.ndarray:
+    """A read-only copy of ``rows`` with row ``p`` set to ``value`` (a problem's arrays are
+    read-only: nothing changes them behind its caches)."""
+    out = rows.copy()
+    out[p] = value
+    out.setflags(write=False)
+    return out
+
+
 def unlock_lattices(problem: Any) -> list[int]:
     """Rebuild the lattice of every robot that cannot reach its target alone on its own
     lattice but can on a fine one (module docstring); returns the robots changed (the
@@ -200,7 +209,8 @@ def unlock_lattices(problem: Any) -> list[int]:
         if new_tables is None or not alone_reachable(new, new_tables, s_new, t_new):
             continue
         kins[p] = new
-        problem.start[p], problem.target[p] = s_new, t_new
+        problem.start, problem.target = (_with_row(a, p, v) for a, v in ((problem.start, s_new),
+                                                                          (problem.target, t_new)))
         changed.append(p)
         added = ", ".join(f"{name} {v:g}" for name, vals in zip(("alpha", "beta"), need) for v in sorted(set(vals))
                           if v not in kin.lattice_deg(0 if name == "alpha" else 1))
