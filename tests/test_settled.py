@@ -130,7 +130,7 @@ def test_default_routes_and_refusals():
     assert [mono.payload[k] for k in ("ccc", "rank", "witness")] == [r.payload[k] for k in ("ccc", "rank", "witness")]
     assert run_paper(4, 6, model="coupled", seed=1, semantics="standard").route == "monolithic"
     assert run_paper(4, 6, model="coupled", seed=1, count_states=True).route == "monolithic"
-    for options, where in (({"semantics": "standard"}, "--semantics"), ({"count_states": True}, "--route")):
+    for options, where in (({"semantics": "standard"}, "semantics"), ({"count_states": True}, "route")):  # library names
         with pytest.raises(InputError) as e:
             run_paper(4, 6, model="coupled", seed=1, route="settled", **options)
         assert e.value.where == where

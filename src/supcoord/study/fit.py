@@ -42,6 +42,10 @@ from typing import Any
 
 __all__ = ["Growth", "fit_growth", "series_growth", "series_medians"]
 
+#: residual (``log10`` units squared, per point) below which a fit counts as exact: two exact
+#: fits of one series differ only by rounding, and the simpler one is kept
+RSS_FLOOR = 1e-20
+
 
 @dataclass(frozen=True)
 class Growth:
@@ -123,8 +127,8 @@ def fit_growth(xs: Sequence[float], ys: Sequence[float]) -> Growth | None:
         fits["power"] = (k, _rss(ly, (a + k * math.log10(x) for x in lx)))
     order = [m for m in ("power", "linear", "exponential") if m in fits]
     best = order[0]
-    for model in order[1:]:
-        if fits[model][1] < 0.5 * fits[best][1]:
+    for model in order[1:]:  # a residual within rounding of zero is no better than another such
+        if fits[model][1] < 0.5 * fits[best][1] and fits[best][1] > RSS_FLOOR * len(lx):
             best = model
     rate, rss = fits[best]
     return Growth(best, rate, 1 - rss / total, points)
