@@ -50,7 +50,7 @@ class Target:
 
 
 TARGETS = [
-    Target("store", "study store", ("study/store.py", "study/execute.py"),
+    Target("store", "study store", ("study/store.py", "study/resume.py", "study/execute.py"),
            ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),

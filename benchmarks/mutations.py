@@ -146,7 +146,7 @@ MUTATIONS = [
              "        if not mq and len(mp) < 2:", "        if not mq or len(mp) < 2:",
              ("tests/test_descent_merged.py",),
              "two neighbours each turning one joint in one descent step are not checked together"),
-    Mutation("resume-oom-inverted", "study", "study/execute.py",
+    Mutation("resume-oom-inverted", "study", "study/resume.py",
              "(memory is None or memory >= case.memory_limit_mb)", "(memory is None or memory <= case.memory_limit_mb)",
              ("tests/test_study_resume.py",), "a case out of memory counts as done after its limit is raised"),
     Mutation("gen-range-short", "io", "des/io/gen_parser.py",

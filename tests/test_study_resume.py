@@ -6,7 +6,7 @@ status ``ok``, ``error`` or ``crashed``, or ``timeout``/``out-of-memory`` under 
 least as large as the one asked now (no memory limit: larger than any); ``lost`` and
 ``skipped`` are never done; a status named in ``retry`` is run again.  The test records
 each status with each old limit in a real results database and asks the public
-:func:`supcoord.study.execute.pending` which cases would run.
+:func:`supcoord.study.resume.pending` which cases would run.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import math
 
 import pytest
 
-from supcoord.study.execute import pending
+from supcoord.study.resume import pending
 from supcoord.study.isolate import FAILED
 from supcoord.study.spec import study_from_dict
 from supcoord.study.store import ResultStore

@@ -9,7 +9,8 @@ import pytest
 
 from supcoord.errors import InputError
 from supcoord.study import ResultStore, load_study, study_from_dict
-from supcoord.study.execute import _Skips, is_done, pending
+from supcoord.study.execute import _Skips
+from supcoord.study.resume import is_done, pending
 from supcoord.study.fit import fit_growth
 from supcoord.study.kinds import FAMILY_NAMES, SUPCON_METHODS, default_route
 from supcoord.study.spec import parse_memory

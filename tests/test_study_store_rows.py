@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from supcoord.errors import InputError
-from supcoord.study.execute import _Skips, pending, records
+from supcoord.study.execute import _Skips
+from supcoord.study.resume import pending, records
 from supcoord.study.spec import study_from_dict
 from supcoord.study.store import ResultStore
 

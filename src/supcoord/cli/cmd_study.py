@@ -144,7 +144,7 @@ def _run(args, console, study, database) -> CommandResult:
 
 
 def _show(args, console, study, database) -> CommandResult:
-    from ..study.execute import is_done, records
+    from ..study.resume import is_done, records
     from ..study.machine import code_version
     from ..study.report import markdown_table, summary_rows
     from ..study.results import results_rows

@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 from ..errors import FormatError, InputError
@@ -27,7 +29,8 @@ from ..geometry.kinematics import AlphaBeta
 from ..geometry.layout import _short
 from ..instruments import INSTRUMENTS, CollisionDefinition, collision_definition, load_instrument
 
-__all__ = ["DEFAULT_STEPS", "InstrumentSetup", "instrument_setup", "LAYOUT_FIELDS"]
+__all__ = ["DEFAULT_STEPS", "InstrumentSetup", "definition_kept", "instrument_collision", "instrument_setup",
+           "LAYOUT_FIELDS"]
 
 #: default discretisation of an instrument's joints (alpha, beta): 30° steps, chosen by
 #: measurement on the APO wok unfolding to kaiju's random targets (seed 0;
@@ -141,3 +144,22 @@ def problem_fibre(data: dict, where: str | None) -> str | None:
         raise InputError(f"{found[0][0]}: only an instrument layout has named fibres (its robots carry several); "
                          f"a {_short(kind)} layout's fibre is the arm's end", value=found[0][1], where=where)
     return found[0][1] if found else None
+
+
+def instrument_collision(setup: InstrumentSetup, collision: dict[str, Any]) -> dict[str, Any]:
+    """PROBLEM.json's ``collision`` on an instrument layout: the instrument's own definition
+    (``setup.collision``) where the file is silent; a ``margin`` given alone applies to the
+    obstacles too (docs/formats.md)."""
+    own = setup.collision
+    out = dict({"buffer": own.buffer_mm, "margin": own.margin_mm}, **collision)
+    if "margin" not in collision:
+        out.setdefault("obstacle_margin", own.obstacle_margin_mm)
+    return out
+
+
+def definition_kept(setup: InstrumentSetup, buffers: np.ndarray, margin: float,
+                    obstacle_margin: float) -> CollisionDefinition | None:
+    """The instrument's collision definition when a problem's numbers (mm) are exactly it, else None."""
+    own = setup.collision
+    same = (np.all(buffers == own.buffer_mm) and margin == own.margin_mm and obstacle_margin == own.obstacle_margin_mm)
+    return own if same else None

@@ -38,7 +38,7 @@ from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tab
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
 from ..instruments import CollisionDefinition
 from ..geometry.layout import _short, layout_from_spec
-from .instrument import instrument_setup, problem_fibre
+from .instrument import definition_kept, instrument_collision, instrument_setup, problem_fibre
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
                      _unknown_fields)
 from .targets import parse_offline, parse_positions, radian_warnings, robot_lattices, with_angles
@@ -342,11 +342,7 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
     base_kins = setup.robots if setup else None
     collision = data.get("collision", {} if setup else None)
     if setup and isinstance(collision, dict):  # the instrument's own definition where the file is silent
-        own = setup.collision
-        margin_given = "margin" in collision
-        collision = dict({"buffer": own.buffer_mm, "margin": own.margin_mm}, **collision)
-        if not margin_given:
-            collision.setdefault("obstacle_margin", own.obstacle_margin_mm)
+        collision = instrument_collision(setup, collision)
     buffers = _buffers(collision, n, where)
     margin = _margin(collision, where)
     obstacle_margin = _margin(collision, where, "obstacle_margin", margin)
@@ -383,7 +379,7 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
                       obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
                       joint_rules=setup.joint_rules if setup else {},
-                      collision_definition=_definition_name(setup, buffers, margin, obstacle_margin))
+                      collision_definition=definition_kept(setup, buffers, margin, obstacle_margin) if setup else None)
     unlock_lattices(problem)  # robots their obstacles would lock in on a coarse lattice
     start, target = problem.start, problem.target
     if check_collisions:
@@ -399,12 +395,3 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
             _check_fixed(problem, name, conf, where)
     return problem
 
-
-def _definition_name(setup: Any, buffers: np.ndarray, margin: float,
-                     obstacle_margin: float) -> CollisionDefinition | None:
-    """The instrument's definition when the problem's numbers are exactly it, else None."""
-    if setup is None:
-        return None
-    own = setup.collision
-    same = (np.all(buffers == own.buffer_mm) and margin == own.margin_mm and obstacle_margin == own.obstacle_margin_mm)
-    return own if same else None

@@ -18,13 +18,7 @@ the rule sees their failures before the larger cases are sent; a Ctrl-C
 (``KeyboardInterrupt``; also SIGTERM, which Slurm sends at the end of a job) stops the
 cases that are running, kills their processes and leaves the finished ones committed.
 
-A case is **done** when the database holds its key (same parameters, same code version)
-with status ``ok``, ``error`` or ``crashed``, or ``timeout``/``out-of-memory`` under a
-limit at least as large as the one asked now (so raising a limit re-runs exactly the
-cases that ran out of it); ``retry`` names statuses to run again (``crashed``, say, after a
-fix; :data:`~.isolate.FAILED`: every failure).  A case
-whose Dask worker died on every try (``KilledWorker``: a node that went away, a job that
-ended) is recorded as ``lost`` and is never done: the next run runs it again.
+A case is **done** as :mod:`.resume` decides; the others run.
 """
 
 from __future__ import annotations
@@ -46,10 +40,11 @@ from ..progress import summary_html, summary_repr
 from .isolate import FAILED, execute
 from .machine import code_version, cpu_model, machine
 from .report import StudyProgress
+from .resume import is_done, pending, records
 from .spec import Case, Study
 from .store import ResultStore
 
-__all__ = ["DEFAULT_WORKERS", "RunSummary", "is_done", "pending", "records", "run_study"]
+__all__ = ["DEFAULT_WORKERS", "RunSummary", "run_study"]
 
 DEFAULT_WORKERS = 2
 
@@ -94,49 +89,6 @@ class RunSummary:
 
     def _repr_html_(self) -> str:
         return summary_html("RunSummary", self.summary())
-
-
-def is_done(record: tuple[str, float | None, float | None] | None, case: Case, retry: Iterable[str] = ()) -> bool:
-    """Whether a recorded ``(status, time limit, memory limit)`` settles ``case`` (module docstring)."""
-    if record is None:
-        return False
-    status, limit, memory = record
-    if status == "ok":
-        return True
-    if status in retry or status in ("skipped", "lost"):
-        return False
-    if status == "timeout":
-        return limit is not None and limit >= case.time_limit
-    if status == "out-of-memory":
-        return case.memory_limit_mb is not None and (memory is None or memory >= case.memory_limit_mb)
-    return status in ("error", "crashed")
-
-
-Record = tuple[str, float | None, float | None]
-
-
-def records(study: Study, store: ResultStore, version: str, any_version: bool = False) -> dict[str, Record]:
-    """``params_key -> (status, time limit, memory limit)`` of the study's recorded cases:
-    the row of ``version``, or with ``any_version`` the best row of any version (an ``ok``
-    one, else the latest)."""
-    by_key: dict[str, Record] = {}
-    best: dict[str, tuple[bool, str, Record]] = {}
-    for key, params_key, status, limit, memory, started in store.finished():
-        by_key[key] = (status, limit, memory)
-        rank = (status == "ok", started or "", (status, limit, memory))
-        if params_key and (params_key not in best or rank[:2] > best[params_key][:2]):
-            best[params_key] = rank
-    if any_version:
-        return {c.params_key: best[c.params_key][2] for c in study.cases if c.params_key in best}
-    return {c.params_key: by_key[c.key(version)] for c in study.cases if c.key(version) in by_key}
-
-
-def pending(study: Study, store: ResultStore, version: str, retry: Iterable[str] = (),
-            any_version: bool = False) -> list[Case]:
-    """The cases of ``study`` not done in ``store`` for ``version`` (or for any version), smallest first."""
-    found = records(study, store, version, any_version)
-    todo = [c for c in study.cases if not is_done(found.get(c.params_key), c, tuple(retry))]
-    return sorted(todo, key=lambda c: (c.size if c.size is not None else 0, c.block))
 
 
 def _row(case: Case, row: dict[str, Any], study: Study, version: str, run: int | None) -> dict[str, Any]:
