@@ -60,7 +60,10 @@ def test_a_problem_solves_and_its_plan_checks(path, tmp_path):
         return
     checked = supcoord("check", path, tmp_path / "plan.json", "--json", cwd=tmp_path)
     clean(checked)
-    assert json.loads(checked.stdout)["valid"] is True
+    result = json.loads(checked.stdout)
+    assert result["valid"] is True
+    if path.suffix == ".json" and plan["status"] == "complete":
+        assert result["at_target"] == len(plan["configurations"][0])
 
 
 @pytest.mark.slow
