@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """The paths SDSS-V's robots would run, checked continuously: supcoord's jaeger export and kaiju's smoothed paths.
 
-Run with supcoord's venv; kaiju runs in ``--kaiju-python`` (``/work``-independent: any Python
+Run with supcoord's venv; kaiju runs in ``--kaiju-python`` (any Python
 with kaiju 1.4.1, e.g. built by ``install-kaiju.sh``)::
 
     python benchmarks/jaeger_vs_kaiju.py --grids apo,lco --seeds 0-2 --kaiju-python KAIJU_PY \
