@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -109,3 +110,24 @@ def test_a_bug_in_the_forked_work_still_prints_its_traceback():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=50)
     assert proc.returncode == 1
     assert "Traceback" in proc.stderr and "ValueError: a planted bug" in proc.stderr
+
+
+@pytest.mark.timeout(90)
+def test_an_interrupt_sent_to_the_command_alone_stops_its_forked_work():
+    """SIGINT to the command's own process (a process manager's, not the terminal's, which
+    reaches the whole group) is passed on to the forked work: one line, exit 130, no child left."""
+    import psutil
+
+    proc = subprocess.Popen([sys.executable, "-m", "supcoord.cli", "paper", "--positioners", "12", "--steps", "12",
+                             "--model", "coupled", "--route", "monolithic", "--max-memory", "4G"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline, children = time.time() + 60, []
+    while time.time() < deadline and not children and proc.poll() is None:
+        time.sleep(0.05)
+        children = psutil.Process(proc.pid).children()
+    assert children, "the command did not fork its work"
+    time.sleep(0.5)
+    os.kill(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130 and err.strip().splitlines() == ["supcoord: error: interrupted"], err
+    assert not any(c.is_running() and c.status() != psutil.STATUS_ZOMBIE for c in children)

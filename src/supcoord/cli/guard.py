@@ -78,10 +78,11 @@ def run_in_child(work: Callable[[], int], max_memory: int,
                 except (OSError, ValueError):
                     pass
             os._exit(code)
-    # the parent: a Ctrl-C at the terminal reaches the child too, which stops cleanly (exit 130)
+    # the parent passes SIGINT and SIGTERM on to the child, which stops cleanly (exit 130); a
+    # Ctrl-C at the terminal reaches both, and the child ignores the second interrupt
     previous = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, lambda signum, frame: os.kill(pid, signal.SIGTERM))
+    for sig in previous:
+        signal.signal(sig, lambda signum, frame: os.kill(pid, signum))
     try:
         while True:
             try:
