@@ -97,3 +97,27 @@ def test_single_write_group_keeps_its_steps():
         out = local_closures(ctx, steps, P.invariant)
     assert [s.event for s in out] == [s.event for s in steps]
     assert meter.result().closures_built == 0 and work_done(ctx) >= before
+
+
+def test_no_scratch_manager_means_the_plain_steps(monkeypatch):
+    """Under a memory cap a second CUDD manager may not be had (``RuntimeError`` from
+    ``dd.cudd.BDD``): every closure is abandoned, reported, and the reachable set is the same."""
+    import dd.cudd
+
+    ctx = Context()
+    P = product(*_models(ctx, *families.machine_line(4)))
+    steps = event_steps(P, None, True)
+    rel = ctx.false
+    writes = sorted(frozenset().union(*(s.writes for s in steps)))
+    for s in steps:
+        rel |= s.relation & ctx.identity(sorted(set(writes) - s.writes))
+    expected = R.reachable(P, method="saturation")
+
+    def no_manager(*args, **kwargs):
+        raise RuntimeError("failed to initialize CUDD DdManager")
+
+    monkeypatch.setattr(dd.cudd, "BDD", no_manager)
+    with EffortMeter(ctx) as meter:
+        assert _closures(ctx, [(ctx.bits(writes), rel), (ctx.bits(writes), rel)]) == [None, None]
+    assert meter.result().closures_abandoned == 2
+    assert R.reachable(P, method="saturation") == expected

@@ -314,11 +314,13 @@ def _first_line(exc: BaseException) -> str:
 def _out_of_memory(exc: BaseException) -> bool:
     """CUDD's allocation failures as dd reports them (``RuntimeError('CUDD appears to have
     run out of memory …')`` from operators, ``ValueError('`DdNode *node` is `NULL`
-    pointer.')`` from constructors), and Python's own :class:`MemoryError`."""
+    pointer.')`` from constructors, a manager that cannot be initialised), and Python's own
+    :class:`MemoryError`."""
     if isinstance(exc, MemoryError):
         return True
     text = str(exc)
-    return "run out of memory" in text or "out of memory" in text.lower() or "`NULL` pointer" in text
+    return ("run out of memory" in text or "out of memory" in text.lower() or "`NULL` pointer" in text
+            or "failed to initialize CUDD DdManager" in text)
 
 
 def _memory_reason(args: argparse.Namespace, exc: BaseException) -> str:

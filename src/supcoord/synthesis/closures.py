@@ -132,8 +132,9 @@ def _closures(ctx: Context, relations: list[tuple[list[str], BDD]], max_work: in
     ``(T∘T)(x, x') = ∃m. T(x, m) ∧ T(m, x')`` over the written bits only, in one scratch
     CUDD manager holding the relations' bits in the main order and a third copy ``m``
     right below each primed written bit; ``None`` where ``R⁺`` outgrows
-    ``_CLOSURE_GROWTH`` × ``R``, and for every relation not closed within ``max_work``
-    computed-table lookups of the scratch manager."""
+    ``_CLOSURE_GROWTH`` × ``R``, for every relation not closed within ``max_work``
+    computed-table lookups of the scratch manager, and for all when no scratch manager can
+    be had."""
     import dd.cudd as cudd
 
     bdd = ctx.bdd
@@ -141,7 +142,11 @@ def _closures(ctx: Context, relations: list[tuple[list[str], BDD]], max_work: in
     needed = set(written) | {b + "'" for b in written}
     for _, r in relations:
         needed |= bdd.support(r)
-    scratch = cudd.BDD(initial_cache_size=2**14)
+    try:
+        scratch = cudd.BDD(initial_cache_size=2**14)
+    except RuntimeError:  # no memory for a second manager (a memory cap): the plain steps serve
+        add_closure_work(0, 0, len(relations))
+        return [None] * len(relations)
     mid = {}
     for v in sorted(needed, key=bdd.level_of_var):
         scratch.declare(v)
