@@ -42,6 +42,8 @@ References
 
 from __future__ import annotations
 
+import sys
+
 from dataclasses import replace
 
 from ..bdd.context import BDD, Context
@@ -142,11 +144,15 @@ def _closures(ctx: Context, relations: list[tuple[list[str], BDD]], max_work: in
     needed = set(written) | {b + "'" for b in written}
     for _, r in relations:
         needed |= bdd.support(r)
+    hook = sys.unraisablehook  # dd's __dealloc__ of a manager that failed to start only complains
+    sys.unraisablehook = lambda unraisable: None
     try:
         scratch = cudd.BDD(initial_cache_size=2**14)
     except RuntimeError:  # no memory for a second manager (a memory cap): the plain steps serve
         add_closure_work(0, 0, len(relations))
         return [None] * len(relations)
+    finally:
+        sys.unraisablehook = hook
     mid = {}
     for v in sorted(needed, key=bdd.level_of_var):
         scratch.declare(v)
