@@ -51,6 +51,16 @@ def _check(plants, specs, monkeypatch) -> None:
     assert work["default"][1] <= MAX_RATIO * best, {m: w for m, (_, w) in work.items()}
 
 
+def _whole_relation(ctx: Context, P):
+    """The written bits of all of ``P``'s steps and their one relation ``⋁_σ R_σ ∧ I_{W \\ W_σ}``."""
+    steps = event_steps(P, None, True)
+    writes = sorted(frozenset().union(*(s.writes for s in steps)))
+    rel = ctx.false
+    for s in steps:
+        rel |= s.relation & ctx.identity(sorted(set(writes) - s.writes))
+    return writes, rel
+
+
 @pytest.mark.parametrize("family,size", SMALL)
 def test_default_within_three_times_the_best_work(family, size, monkeypatch):
     _check(*families.FAMILIES[family](size), monkeypatch)
@@ -68,11 +78,7 @@ def test_closure_work_limit_abandons_and_reports():
     the effort meter, and the closure within the bound is the same as unbounded."""
     ctx = Context()
     P = product(*_models(ctx, *families.machine_line(7)))
-    steps = event_steps(P, None, True)
-    rel = ctx.false
-    writes = sorted(frozenset().union(*(s.writes for s in steps)))
-    for s in steps:
-        rel |= s.relation & ctx.identity(sorted(set(writes) - s.writes))
+    writes, rel = _whole_relation(ctx, P)
     bits = ctx.bits(writes)
     with EffortMeter(ctx) as meter:
         free = _closures(ctx, [(bits, rel)])
@@ -106,11 +112,7 @@ def test_no_scratch_manager_means_the_plain_steps(monkeypatch):
 
     ctx = Context()
     P = product(*_models(ctx, *families.machine_line(4)))
-    steps = event_steps(P, None, True)
-    rel = ctx.false
-    writes = sorted(frozenset().union(*(s.writes for s in steps)))
-    for s in steps:
-        rel |= s.relation & ctx.identity(sorted(set(writes) - s.writes))
+    writes, rel = _whole_relation(ctx, P)
     expected = R.reachable(P, method="saturation")
 
     def no_manager(*args, **kwargs):
