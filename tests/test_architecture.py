@@ -3,7 +3,7 @@
 - every ``supcoord`` import, at module level or inside a function, goes to a package the
   importer may use (the table below), so imports only go downward;
 - the module graph (function-level imports included) has no cycle;
-- no module is over 400 lines;
+- no module is over 600 lines (one idea per module; an idea that needs more is two);
 - test oracles (``supcoord.testing``) are not part of the top-level API.
 """
 
@@ -40,7 +40,7 @@ ALLOWED: dict[str, set[str]] = {
     "_compat": set(),
     "_boundary": {"errors"},
 }
-MAX_LINES = 400
+MAX_LINES = 600
 
 
 def _modules() -> dict[str, Path]:
@@ -187,7 +187,7 @@ def test_the_cycle_detector_finds_a_cycle():
         GRAPH["supcoord.bdd.context"].discard("supcoord.synthesis.supcon")
 
 
-def test_no_module_is_over_400_lines():
+def test_no_module_is_over_600_lines():
     long = {m: n for m, p in MODULES.items() if (n := len(p.read_text().splitlines())) > MAX_LINES}
     assert not long, long
 
