@@ -164,7 +164,7 @@ class TokenReader:
 
     def __init__(self, text: str, where: str = "<string>", raw: bytes | None = None):
         self.text, self.where = text, where
-        #: the text as bytes, one per character (Latin-1), for the checks of :mod:`.gen_bulk`
+        #: the text as bytes, one per character (Latin-1), for the checks of the fast path in :mod:`.gen_build`
         self.raw = raw if raw is not None else text.encode("latin-1", errors="replace")
         self.pos = 0  # where the next token starts scanning
         self.stack: list[str] = []  # labels of the open sections
