@@ -54,7 +54,7 @@ from ..bdd.context import BDD
 from ..des.explicit_ops import predecessors
 from ..des.generator import Generator
 from ..des.symbolic import SymbolicGenerator
-from .layers import SEMANTICS, Layers, as_single_state, as_states, check_semantics, rank_naive
+from .layers import SEMANTICS, Layers, LayerStats, as_single_state, as_states, check_semantics, rank_naive
 
 __all__ = [
     "SEMANTICS",
@@ -246,7 +246,7 @@ def forcible_layers(
         if w != xold:
             layers.append(w & ~xold)  # L(k+1) = W(k+1) \ W(k)
             k += 1
-    stats = {
+    stats: LayerStats = {
         "iterations": k,
         "seconds": time.perf_counter() - started,
         "bdd_nodes": ctx.node_count(*layers),
@@ -287,7 +287,7 @@ def bfa(G: SymbolicGenerator, source: Any, target: Any, semantics: str = "preemp
     top = full.rank(src)
     false = G.ctx.false
     if top is None:
-        return Layers(G, [], false, semantics, full.env_states, full.complete, dict(full.stats))
+        return Layers(G, [], false, semantics, full.env_states, full.complete, LayerStats(full.stats))
     prefixes = [false]
     for layer in full.layers[:top]:
         prefixes.append(prefixes[-1] | layer)  # prefixes[k] = W(k-1)
@@ -296,7 +296,7 @@ def bfa(G: SymbolicGenerator, source: Any, target: Any, semantics: str = "preemp
         here = reach & full.layers[k]
         reach |= allowed_successors(G, full, here, prefixes[k])
     layers = [layer & reach for layer in full.layers[: top + 1]]
-    stats = dict(full.stats, dag_nodes=G.ctx.node_count(*layers))
+    stats = LayerStats(full.stats, dag_nodes=G.ctx.node_count(*layers))
     winning = false
     for layer in layers:
         winning |= layer

@@ -58,7 +58,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -84,8 +84,33 @@ from .product import (
 )
 from .reachability import DEFAULT_METHOD, coreachable, coreachable_naive, reachable, reachable_naive
 
-__all__ = ["SupconResult", "supcon", "accessible_part", "supcon_naive", "supcon_flat", "lift_spec", "product",
-           "product_naive", "check_alphabets"]
+__all__ = ["SupconResult", "SupervisorCounts", "FlatSupconStats", "supcon", "accessible_part", "supcon_naive",
+           "supcon_flat", "lift_spec", "product", "product_naive", "check_alphabets"]
+
+
+class SupervisorCounts(TypedDict):
+    """The sizes of a symbolic supervisor: exact counts (``None`` when computed without
+    the reachable set, or ``transitions`` when not asked for), BDD sizes in nodes."""
+
+    states: int | None
+    transitions: int | None
+    marked: int | None
+    bdd_nodes: int
+    set_nodes: int
+    accessible: bool
+
+
+class FlatSupconStats(TypedDict):
+    """The statistics of :func:`supcon_flat` (those of :class:`SupconResult` that an
+    explicit computation has; ``bdd_nodes`` and ``set_nodes`` 0, ``seconds`` in s)."""
+
+    states: int
+    transitions: int
+    marked: int
+    bdd_nodes: int
+    set_nodes: int
+    iterations: int
+    seconds: float
 
 
 @dataclass
@@ -263,7 +288,7 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
     return SupconResult(V, stats, effort)
 
 
-def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> dict[str, Any]:
+def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> SupervisorCounts:
     """The sizes of a supervisor; exact counts only for an accessible one."""
     ctx = V.ctx
     return {
@@ -317,7 +342,7 @@ def supcon_naive(G: Generator, E: Generator, name: str = "V") -> Generator:
 
 
 def supcon_flat(plants: list[FlatGenerator], specs: list[FlatGenerator], *, name: str = "V",
-                labels: list[str] | None = None, check=None) -> tuple[FlatGenerator, dict[str, Any]]:
+                labels: list[str] | None = None, check=None) -> tuple[FlatGenerator, FlatSupconStats]:
     """:func:`supcon` of ``sync(plants)`` for ``sync(specs)`` lifted to the plant alphabet
     (a specification leaves the events it lacks free), on the explicit product.
 
@@ -358,6 +383,6 @@ def supcon_flat(plants: list[FlatGenerator], specs: list[FlatGenerator], *, name
     shown = [j for j, c in enumerate(comps) if c.n_states > 1]
     names = state_names([labels[j] for j in shown], [P.states[order, j] for j in shown]) if len(order) else None
     V = renumber(whole, order, name, names)
-    stats = {"states": V.n_states, "transitions": V.n_transitions, "marked": len(V.marked), "bdd_nodes": 0,
-             "set_nodes": 0, "iterations": i, "seconds": time.perf_counter() - t0}
+    stats: FlatSupconStats = {"states": V.n_states, "transitions": V.n_transitions, "marked": len(V.marked),
+                              "bdd_nodes": 0, "set_nodes": 0, "iterations": i, "seconds": time.perf_counter() - t0}
     return V, stats
