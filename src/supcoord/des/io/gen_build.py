@@ -77,7 +77,7 @@ class GenBuilder:
         self.x1, self.ev, self.x2 = array("q"), array("q"), array("q")  # transitions read one by one
         self.chunks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # ... and a column at a time
         self.trans_section: tuple[int, int] | None = None  # text span of <TransRel>, for error lines
-        self._lookup_cache: tuple | None = None  # (states, bare look-up, name look-up) of _lookups
+        self._lookup_cache: tuple[int, dict[str, int], dict[str, int]] | None = None  # (states, bare, names) of _lookups
         self.init: list[int] = []
         self.marked: list[int] = []
 
