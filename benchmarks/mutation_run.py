@@ -59,7 +59,7 @@ TARGETS = [
            ("tests/test_reachability.py", "tests/test_reachability_within.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
            ("tests/test_forcibility.py", "tests/test_witness.py")),
-    Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_bulk.py", "des/io/gen_write.py"),
+    Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
            ("tests/test_gen_sections.py", "tests/test_gen_compat.py", "tests/test_gen_compat_export.py",
             "tests/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",

@@ -150,7 +150,7 @@ MUTATIONS = [
              "(memory is None or memory >= case.memory_limit_mb)", "(memory is None or memory <= case.memory_limit_mb)",
              ("tests/test_study_resume.py",), "a case out of memory counts as done after its limit is raised"),
     Mutation("gen-range-short", "io", "des/io/gen_parser.py",
-             "            out.extend(range(first, last + 1))", "            out.extend(range(first, last))",
+             "    return range(first, last + 1)", "    return range(first, last)",
              ("tests/test_gen_sections.py",), "a <Consecutive> range in a state set is read without its last state"),
     Mutation("saturation-no-final-pass", "reachability", "synthesis/reachability.py",
              "        if not dirty:\n"

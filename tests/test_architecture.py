@@ -36,7 +36,7 @@ ALLOWED: dict[str, set[str]] = {
             "errors", "progress", "study", "outputs"},
     # the top level re-exports lazily; _compat forwards old names on demand (importlib)
     "__init__": {"errors", "_compat", "_boundary", "des", "synthesis", "bdd", "paper", "geometry", "problems", "planning",
-                 "figures", "progress", "outputs"},
+                 "figures", "instruments", "progress", "outputs"},
     "_compat": set(),
     "_boundary": {"errors"},
 }

@@ -27,7 +27,9 @@ driven by the arms' geometry — the *coupled* reading, ``docs/paper.md``):
 False
 
 The public names (everything in ``__all__``) are imported lazily on first use, so
-``import supcoord`` itself loads neither the BDD package nor matplotlib.
+``import supcoord`` itself loads neither the BDD package nor matplotlib.  ``_LAZY``
+below is their one source (name -> module); this table and the ``TYPE_CHECKING``
+imports at the end are checked against it by ``tests/test_public_api_source.py``.
 
 =================  ==========================================================
 group              names
@@ -46,8 +48,9 @@ forcibility        :func:`forcible_layers`, :class:`Layers`, :func:`bfa`,
 the paper's model  :func:`paper_example`, :func:`random_instance`,
                    :class:`PaperInstance`, :func:`literal_models`,
                    :class:`CoupledModel`, :class:`Geometry`,
-                   :func:`coupled_models`, :func:`event_label`,
-                   :func:`decode_label`, :func:`describe`, :func:`run_demo`,
+                   :func:`coupled_models`, :func:`settled_ccc`,
+                   :func:`event_label`, :func:`decode_label`,
+                   :func:`describe`, :func:`run_demo`,
                    :func:`solve_paper`, :func:`run_paper`, :class:`PaperRun`
 geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`,
                    :func:`random_problem`, :func:`preset_problem`,
@@ -65,9 +68,13 @@ figures            :func:`plot_problem`, :func:`save_plan_strip`,
 errors             :class:`SupcoordError` and its subclasses
 =================  ==========================================================
 
-Layers (imports go downward only): :mod:`supcoord.bdd` (the BDD context),
-:mod:`supcoord.des` (generators and formats), :mod:`supcoord.synthesis` (fixpoints),
-:mod:`supcoord.positioners` (the domain), :mod:`supcoord.cli` (command line).
+Layers (imports go downward only; ``docs/architecture.md`` has the exact table):
+:mod:`supcoord.bdd` (the BDD context), :mod:`supcoord.des` (generators and formats),
+:mod:`supcoord.synthesis` (fixpoints), :mod:`supcoord.paper` (the seed paper's
+model); :mod:`supcoord.geometry`, :mod:`supcoord.instruments` and
+:mod:`supcoord.problems` (focal planes, problems, plans, the validator),
+:mod:`supcoord.planning` (the planner), :mod:`supcoord.figures`,
+:mod:`supcoord.study` (declared studies), :mod:`supcoord.cli` (command line).
 """
 
 from __future__ import annotations
@@ -88,9 +95,10 @@ from .errors import (
 
 __version__ = "0.2.0"
 
-_compat.install()  # the old module paths (supcoord.positioners.*) import with a DeprecationWarning
+_compat.install()  # release 0.1's module paths (supcoord.positioners.*, ...) import with a DeprecationWarning
 
-#: public name -> module it lives in (imported on first attribute access)
+#: public name -> module it lives in (imported on first attribute access): the one source of
+#: the public API; the docstring's table and the TYPE_CHECKING block below must agree with it
 _LAZY: dict[str, str] = {
     # the BDD layer
     "Context": "supcoord.bdd.context",
@@ -255,10 +263,12 @@ if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
     from .des.symbolic import SymbolicGenerator, from_explicit, to_explicit
     from .figures import plot_problem, save_plan_gif, save_plan_strip
     from .geometry.instruments import PRESETS
+    from .instruments import folded_configuration, load_instrument, random_wok_targets, wok_problem, wok_targets
     from .paper.coupled import CoupledModel, Geometry, coupled_models
     from .paper.demo import describe, run_demo
     from .paper.literal import PaperInstance, decode_label, event_label, literal_models, paper_example, random_instance
     from .paper.run import PaperRun, run_paper, solve_paper
+    from .paper.settled import settled_ccc
     from .planning.planner import solve
     from .problems.plan import Plan, load_plan, plan_from_moves
     from .problems.presets import preset_problem

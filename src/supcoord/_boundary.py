@@ -50,8 +50,8 @@ def _check_for(annotation: Any) -> Callable[[Any], bool] | None:
         return lambda v: any(v == a and type(v) is type(a) for a in allowed)
     if origin is not None:
         annotation = origin  # list[int] -> list, Sequence[str] -> Sequence, Callable[...] -> Callable
-    if getattr(annotation, "__module__", "") == "typing":
-        return None  # typing.IO and friends: protocols, not runtime classes
+    if getattr(annotation, "__module__", "") == "typing" or getattr(annotation, "_is_protocol", False):
+        return None  # typing.IO and friends, supcoord.bdd.BDD: protocols, not runtime classes
     if annotation is _NONE or annotation is None:
         return lambda v: v is None
     if annotation is bool:

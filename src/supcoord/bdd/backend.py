@@ -1,7 +1,8 @@
 """The ``dd`` backends: choosing one, and the size of a shared BDD DAG without CUDD.
 
 ``dd.cudd`` (CUDD, compiled) is used when it imports, otherwise ``dd.autoref`` (pure
-Python); both share the ``Function`` interface (:data:`BDD`).
+Python); both share the ``Function`` interface, named here once as the structural type
+:class:`BDD` that every module annotating a BDD node imports.
 
 References
 ----------
@@ -10,13 +11,64 @@ References
 
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Iterable, Protocol
 
 from ..errors import InputError
 
 __all__ = ["BDD", "load_backend", "quiet_cudd_out_of_memory", "dag_size", "raise_stack_limit", "STACK_BYTES"]
 
-BDD = Any  # a ``dd`` Function; the backends share its interface
+class BDD(Protocol):
+    """A node of a ``dd`` BDD (``dd.cudd.Function`` or ``dd.autoref.Function``): the
+    operations supcoord uses on one.
+
+    Structural (a :class:`typing.Protocol`): both backends' classes have these members
+    without deriving from this class, as in ``dd._abc.Operator``.  ``var`` is ``None`` on
+    the constants; with complemented edges ``low`` and ``high`` are the children of the
+    regular node and ``negated`` says whether this edge is complemented.
+
+    Examples
+    --------
+    >>> from supcoord.bdd import Context
+    >>> ctx = Context()
+    >>> x = ctx.add_variable("x", 4)              # two bits, x_1 x_0
+    >>> u: BDD = ctx.eq("x", 2)
+    >>> (u & ~u) == ctx.false, sorted(u.support), u.var
+    (True, ['x_0', 'x_1'], 'x_1')
+
+    References
+    ----------
+    - I. Filippidis et al., the ``dd`` package, ``dd/_abc.py`` (tulip-control/dd).
+    """
+
+    def __invert__(self) -> BDD: ...
+
+    def __and__(self, other: BDD) -> BDD: ...
+
+    def __or__(self, other: BDD) -> BDD: ...
+
+    def __eq__(self, other: object) -> bool: ...
+
+    def __hash__(self) -> int: ...
+
+    def __int__(self) -> int: ...
+
+    @property
+    def var(self) -> str | None: ...
+
+    @property
+    def level(self) -> int: ...
+
+    @property
+    def low(self) -> BDD | None: ...
+
+    @property
+    def high(self) -> BDD | None: ...
+
+    @property
+    def negated(self) -> bool: ...
+
+    @property
+    def support(self) -> set[str]: ...
 
 
 #: C stack the BDD operations may use (bytes): CUDD's apply recurses once per variable

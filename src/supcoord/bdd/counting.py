@@ -15,9 +15,9 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-__all__ = ["exact_count"]
+from .backend import BDD
 
-BDD = Any
+__all__ = ["exact_count"]
 
 
 def exact_count(bdd: Any, u: BDD, care: Sequence[str]) -> int:

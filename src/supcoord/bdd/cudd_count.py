@@ -30,7 +30,7 @@ from __future__ import annotations
 import ctypes
 from typing import Any, Callable, Sequence
 
-__all__ = ["apa_counter"]
+__all__ = ["apa_counter", "live_node_reader", "manager_pointer"]
 
 _BDD_MANAGER = 24  # offsetof(struct __pyx_obj_2dd_4cudd_BDD, manager) on 64-bit CPython
 _FN_BDD, _FN_MANAGER, _FN_NODE = 32, 40, 48  # offsets in struct __pyx_obj_2dd_4cudd_Function
@@ -38,6 +38,12 @@ _FN_BDD, _FN_MANAGER, _FN_NODE = 32, 40, 48  # offsets in struct __pyx_obj_2dd_4
 
 def _pointer(obj: Any, offset: int) -> int:
     return ctypes.c_void_p.from_address(id(obj) + offset).value or 0
+
+
+def manager_pointer(bdd: Any) -> int:
+    """The ``DdManager *`` of a ``dd.cudd.BDD``, read from its C layout (module
+    docstring; 0 for a manager without one).  Only for a ``dd.cudd`` manager."""
+    return _pointer(bdd, _BDD_MANAGER)
 
 
 def _library(module: Any):
@@ -63,7 +69,7 @@ def live_node_reader(bdd: Any, counter: Callable[[Any, int], int] | None, module
     if counter is None:
         return None
     _, _, (keys, dead) = _library(module)
-    manager = _pointer(bdd, _BDD_MANAGER)
+    manager = manager_pointer(bdd)
     return lambda: int(keys(manager)) - int(dead(manager))
 
 
@@ -84,7 +90,7 @@ def apa_counter(bdd: Any, module: Any, reference: Callable[[Any, Any, Sequence[s
 
 def _validated(bdd: Any, module: Any, reference) -> Callable[[Any, int], int] | None:
     count_fn, free_fn, _ = _library(module)
-    manager = _pointer(bdd, _BDD_MANAGER)
+    manager = manager_pointer(bdd)
     if not manager:
         return None
 

@@ -28,7 +28,7 @@ import ctypes
 from functools import lru_cache
 from typing import Any
 
-from .cudd_count import _BDD_MANAGER, _pointer
+from .cudd_count import manager_pointer
 
 __all__ = ["cache_lookups", "WorkLimit"]
 
@@ -48,7 +48,7 @@ def _functions(path: str):
 
 
 def _manager(bdd: Any, module: Any) -> int:
-    return _pointer(bdd, _BDD_MANAGER) if module.__name__.endswith("cudd") else 0
+    return manager_pointer(bdd) if module.__name__.endswith("cudd") else 0
 
 
 def cache_lookups(bdd: Any, module: Any) -> int | None:

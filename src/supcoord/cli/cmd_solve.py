@@ -24,7 +24,7 @@ from .common import CommandResult, Console, add_problem_argument, budget_from_ar
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run", "figure_suffix", "writable", "FIGURE_SUFFIXES"]
 
-#: what ``--figure`` accepts (the same list as ``positioners.figures.FIGURE_SUFFIXES``,
+#: what ``--figure`` accepts (the same list as ``supcoord.figures.problem.FIGURE_SUFFIXES``,
 #: repeated here so that a bad name is refused before matplotlib is imported)
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".gif")
 

@@ -1,8 +1,8 @@
 """The ``supcoord`` command line: a thin shell over the library.
 
-Each command lives in its own module ``supcoord.cli.cmd_<name>`` exposing
-``register(subparsers)``; the parser it adds sets ``func`` to a callable
-``run(args) -> CommandResult``.  This module owns what every command shares
+Each command lives in its own module ``supcoord.cli.cmd_<name>`` exposing ``HELP``,
+``DESCRIPTION``, ``EXAMPLE``, ``BUDGETS``, ``add_arguments(parser)`` and
+``run(args) -> CommandResult``; :func:`build_parser` adds its parser.  This module owns what every command shares
 (``docs/formats.md``): ``--json`` prints exactly one JSON object on standard output;
 a user error (:class:`~supcoord.errors.SupcoordError`) exits 2 with one line on
 standard error; a budget that runs out exits 3 with ``"status": "unknown"``; any

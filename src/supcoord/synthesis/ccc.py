@@ -75,9 +75,58 @@ class CCCResult:
 def ccc(V: SymbolicGenerator, semantics: str = "preemptive", *, target: Any = None, full: bool = True) -> CCCResult:
     """Complete Coordination Checker: is ``V``'s marked set (or ``target``) forcible from ``q0``?
 
-    ``full=False`` stops the fixpoint as soon as ``q0`` is won (the layer sizes are then
-    those of ``W(rank(q0))``).  An empty ``V`` (no initial state) is not forcible.
+    ``CCC(V) = [q0 ∈ W(∞)]`` for the backtracking-forcibility fixpoint
+    ``W(0) = T``, ``W(k+1) = W(k) ∪ Force(W(k))`` (:func:`~.forcibility.force`).
 
+    Parameters
+    ----------
+    V : SymbolicGenerator
+        The supervisor (any deterministic symbolic generator), typically
+        ``supcon(G, allevents(G) || S).supervisor``.
+    semantics : {"preemptive", "standard"}, optional
+        ``"preemptive"`` (the seed paper's Remark): where an uncontrollable event is
+        pending, all of them must lead into ``W``, and elsewhere one controllable event
+        must; ``"standard"``: one controllable event into ``W`` and every uncontrollable
+        one too.
+    target : BDD or state, optional
+        The set to force (default ``V``'s marked states): a BDD over ``V``'s variables
+        or a state as :func:`~.layers.as_states` reads it.
+    full : bool, optional
+        ``False`` stops the fixpoint as soon as ``q0`` is won (the layer sizes are
+        then those of ``W(rank(q0))``).
+
+    Returns
+    -------
+    CCCResult
+        ``forcible``; ``witness`` (a shortest forcing string of event names, empty when
+        not forcible); ``rank`` (events to the target in the worst case, ``None`` when
+        not forcible); ``layers`` (exact state counts of ``L(0), L(1), …``); ``stats``
+        (``seconds`` wall-clock s, ``winning_states``, ``complete``, the fixpoint's
+        ``iterations`` and BDD nodes); ``fixpoint`` (the :class:`Layers`).  An empty
+        ``V`` (no initial state) is not forcible.
+
+    Raises
+    ------
+    InputError
+        ``semantics`` is unknown, or ``target`` is no state or set of ``V``.
+    BudgetExceeded
+        The context's node or time budget ran out.
+
+    See Also
+    --------
+    supcoord.synthesis.forcibility.forcible_layers : the layers alone.
+    supcoord.synthesis.forcibility.bfa : the forcible paths from ``q0``.
+
+    References
+    ----------
+    .. [1] M. Macktoobian, D. Gillet, J.-P. Kneib, "Supervisory coordination of robotic
+       fiber positioners in multi-object spectrographs", IFAC-PapersOnLine 52(3), 2019,
+       doi:10.1016/j.ifacol.2019.06.011 (Algorithm CCC).
+    .. [2] M. Macktoobian, W. M. Wonham, "Automatic reconfiguration of untimed
+       discrete-event systems", ICEEE 2017 (backtracking forcibility).
+
+    Examples
+    --------
     >>> from supcoord.des.generator import Event, Generator
     >>> from supcoord.des.symbolic import from_explicit
     >>> from supcoord.bdd import Context

@@ -54,7 +54,7 @@ from ..bdd.context import BDD
 from ..des.explicit_ops import predecessors
 from ..des.generator import Generator
 from ..des.symbolic import SymbolicGenerator
-from .layers import SEMANTICS, Layers, as_single_state, as_states, check_semantics, rank_naive
+from .layers import SEMANTICS, Layers, LayerStats, as_single_state, as_states, check_semantics, rank_naive
 
 __all__ = [
     "SEMANTICS",
@@ -110,13 +110,69 @@ def uncontrollable_enabled(G: SymbolicGenerator) -> BDD:
 
 
 def force(G: SymbolicGenerator, W: BDD, Q: BDD, env_states: BDD, semantics: str,
-          groups: Sequence[_Cluster] | None = None, primed_inv: dict | None = None) -> BDD:
-    """``Force(W)`` inside ``Q`` (see the module docstring for both semantics).
+          groups: Sequence[_Cluster] | None = None,
+          primed_inv: dict[tuple[str, ...], BDD] | None = None) -> BDD:
+    """``Force(W)`` inside ``Q``: the states from which one step can be forced into ``W``.
 
     ``Pre_σ(X) = ∃x'_W. R_σ ∧ X[x_W := x'_W]``; each write set is primed once per call
     and serves both ``Pre_c(W)`` and ``Pre_u(Q_G \\ W)``, since
-    ``(Q_G \\ W)[x_W := x'_W] = Q_G[x_W := x'_W] ∧ ¬W[x_W := x'_W]``; ``primed_inv``
-    caches ``Q_G[x_W := x'_W]`` per write set across calls.
+    ``(Q_G \\ W)[x_W := x'_W] = Q_G[x_W := x'_W] ∧ ¬W[x_W := x'_W]``.
+
+    Parameters
+    ----------
+    G : SymbolicGenerator
+        The generator, deterministic.
+    W : BDD
+        The states already won (over ``G``'s unprimed variables).
+    Q : BDD
+        The states that may be won (within ``G``'s invariant).
+    env_states : BDD
+        ``{q : U(q) ≠ ∅}``, the states with an uncontrollable event
+        (:func:`uncontrollable_enabled`).
+    semantics : {"preemptive", "standard"}
+        ``"preemptive"``: ``{q : U(q) ≠ ∅ ∧ ∀u ∈ U(q). δ(q,u) ∈ W} ∪ {q : U(q) = ∅ ∧
+        ∃c ∈ C(q). δ(q,c) ∈ W}``; ``"standard"``: ``{q : (∃c ∈ C(q). δ(q,c) ∈ W) ∧
+        ∀u ∈ U(q). δ(q,u) ∈ W}``.
+    groups : sequence of clusters, optional
+        ``G``'s relations grouped by controllability and write set (:func:`clusters`),
+        when the caller keeps them across calls.
+    primed_inv : dict, optional
+        A cache, write set -> ``Q_G[x_W := x'_W]``, kept by the caller across calls.
+
+    Returns
+    -------
+    BDD
+        ``Force(W) ∩ Q`` (it may include states of ``W``).
+
+    See Also
+    --------
+    forcible_layers : the fixpoint ``W(k+1) = W(k) ∪ Force(W(k))``.
+
+    References
+    ----------
+    .. [1] M. Macktoobian, W. M. Wonham, "Automatic reconfiguration of untimed
+       discrete-event systems", ICEEE 2017 (backtracking forcibility).
+    .. [2] M. Macktoobian, D. Gillet, J.-P. Kneib, "Supervisory coordination of robotic
+       fiber positioners in multi-object spectrographs", IFAC-PapersOnLine 52(3), 2019,
+       doi:10.1016/j.ifacol.2019.06.011 (the preemptive semantics: its Remark).
+
+    Examples
+    --------
+    ``0 -a-> 1 -u-> 2`` with ``a`` controllable, ``u`` not, and ``W = {2}``: state 1
+    has only ``u``, which leads into ``W``, so it is forced under the preemptive
+    semantics; under the standard one no controllable event leaves it.
+
+    >>> from supcoord.bdd import Context
+    >>> from supcoord.des.generator import Event, Generator
+    >>> from supcoord.des.symbolic import from_explicit
+    >>> g = Generator(3, [Event("a", True), Event("u", False)], [(0, "a", 1), (1, "u", 2)], 0, [2], name="g")
+    >>> S = from_explicit(Context(), g)
+    >>> env = uncontrollable_enabled(S)
+    >>> F = force(S, S.marked, S.invariant, env, "preemptive")
+    >>> [q for q in range(3) if S.ctx.eq("g", q) & F != S.ctx.false]
+    [1]
+    >>> force(S, S.marked, S.invariant, env, "standard") == S.ctx.false
+    True
     """
     ctx = G.ctx
     inv = G.invariant
@@ -190,7 +246,7 @@ def forcible_layers(
         if w != xold:
             layers.append(w & ~xold)  # L(k+1) = W(k+1) \ W(k)
             k += 1
-    stats = {
+    stats: LayerStats = {
         "iterations": k,
         "seconds": time.perf_counter() - started,
         "bdd_nodes": ctx.node_count(*layers),
@@ -231,7 +287,7 @@ def bfa(G: SymbolicGenerator, source: Any, target: Any, semantics: str = "preemp
     top = full.rank(src)
     false = G.ctx.false
     if top is None:
-        return Layers(G, [], false, semantics, full.env_states, full.complete, dict(full.stats))
+        return Layers(G, [], false, semantics, full.env_states, full.complete, LayerStats(full.stats))
     prefixes = [false]
     for layer in full.layers[:top]:
         prefixes.append(prefixes[-1] | layer)  # prefixes[k] = W(k-1)
@@ -240,7 +296,7 @@ def bfa(G: SymbolicGenerator, source: Any, target: Any, semantics: str = "preemp
         here = reach & full.layers[k]
         reach |= allowed_successors(G, full, here, prefixes[k])
     layers = [layer & reach for layer in full.layers[: top + 1]]
-    stats = dict(full.stats, dag_nodes=G.ctx.node_count(*layers))
+    stats = LayerStats(full.stats, dag_nodes=G.ctx.node_count(*layers))
     winning = false
     for layer in layers:
         winning |= layer

@@ -15,14 +15,14 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping, Sequence, TypedDict
 
 from ..bdd.context import BDD
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
 from ..progress import summary_html, summary_repr
 
-__all__ = ["SEMANTICS", "check_semantics", "Layers", "rank_naive", "as_states", "as_single_state"]
+__all__ = ["SEMANTICS", "check_semantics", "Layers", "LayerStats", "rank_naive", "as_states", "as_single_state"]
 
 SEMANTICS = ("preemptive", "standard")
 
@@ -31,6 +31,19 @@ def check_semantics(semantics: str) -> None:
     """Raise :class:`InputError` unless ``semantics`` is one of :data:`SEMANTICS`."""
     if semantics not in SEMANTICS:
         raise InputError(f"unknown forcibility semantics {semantics!r} (use preemptive or standard)", value=semantics)
+
+
+class LayerStats(TypedDict, total=False):
+    """The statistics of a forcibility fixpoint: ``iterations`` (layers computed),
+    ``seconds`` (wall-clock, s), ``bdd_nodes`` (the layers' shared DAG, nodes),
+    ``peak_nodes`` (the manager's peak, nodes); ``dag_nodes`` (nodes) after
+    :func:`~.forcibility.bfa`."""
+
+    iterations: int
+    seconds: float
+    bdd_nodes: int
+    peak_nodes: int
+    dag_nodes: int
 
 
 @dataclass
@@ -48,7 +61,7 @@ class Layers:
     semantics: str
     env_states: BDD
     complete: bool = True
-    stats: dict[str, Any] = field(default_factory=dict)
+    stats: LayerStats = field(default_factory=LayerStats)
 
     def __len__(self) -> int:
         return len(self.layers)

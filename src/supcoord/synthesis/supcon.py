@@ -58,7 +58,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -84,8 +84,33 @@ from .product import (
 )
 from .reachability import DEFAULT_METHOD, coreachable, coreachable_naive, reachable, reachable_naive
 
-__all__ = ["SupconResult", "supcon", "accessible_part", "supcon_naive", "supcon_flat", "lift_spec", "product",
-           "product_naive", "check_alphabets"]
+__all__ = ["SupconResult", "SupervisorCounts", "FlatSupconStats", "supcon", "accessible_part", "supcon_naive",
+           "supcon_flat", "lift_spec", "product", "product_naive", "check_alphabets"]
+
+
+class SupervisorCounts(TypedDict):
+    """The sizes of a symbolic supervisor: exact counts (``None`` when computed without
+    the reachable set, or ``transitions`` when not asked for), BDD sizes in nodes."""
+
+    states: int | None
+    transitions: int | None
+    marked: int | None
+    bdd_nodes: int
+    set_nodes: int
+    accessible: bool
+
+
+class FlatSupconStats(TypedDict):
+    """The statistics of :func:`supcon_flat` (those of :class:`SupconResult` that an
+    explicit computation has; ``bdd_nodes`` and ``set_nodes`` 0, ``seconds`` in s)."""
+
+    states: int
+    transitions: int
+    marked: int
+    bdd_nodes: int
+    set_nodes: int
+    iterations: int
+    seconds: float
 
 
 @dataclass
@@ -145,19 +170,91 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
            count_transitions: bool = True, accessible: bool = True) -> SupconResult:
     """The supremal controllable and nonblocking supervisor of ``G`` for ``E`` (TCT meaning).
 
-    ``count_transitions=False`` leaves ``stats["transitions"]`` as ``None``: the exact
-    count ``Σ_σ |Z ∩ En_σ|`` takes one ``Pre`` and one count per event, a noticeable
-    share of the run time of products with thousands of events.  ``stats["iterations"]``
-    counts the passes of the nonblocking/controllability loop.
+    ``V = G × E`` restricted to the greatest controllable and nonblocking subset of
+    ``Reach(G × E)`` (the module docstring gives the fixpoints); ``Lm(V)`` is the
+    supremal controllable sublanguage of ``Lm(G) ∩ Lm(E)``.
 
-    ``accessible=False`` computes the supervisor on the whole state space, without
-    ``Reach(P)`` (module docstring): the same languages, initial state and reachable
-    part, but unreachable states too, so ``stats`` leaves ``states``, ``transitions`` and
-    ``marked`` as ``None`` (``stats["accessible"]`` says which); :func:`accessible_part`
-    gives the trim supervisor and its counts.
+    Parameters
+    ----------
+    G : SymbolicGenerator
+        The plant, deterministic; its alphabet ``Σ = Σc ⊎ Σu`` (not empty).
+    E : SymbolicGenerator
+        The specification, deterministic, in ``G``'s :class:`~supcoord.bdd.Context` with
+        variables of its own, over a subset of ``Σ``.  An event of ``G`` that ``E`` lacks
+        is disabled (TCT's meaning; :func:`lift_spec` gives libFAUDES's).
+    name : str, optional
+        The supervisor's name.
+    method : {"saturation", "chaining", "bfs"}, optional
+        How the reachability fixpoints are computed (same result, other time and memory).
+    count_transitions : bool, optional
+        ``False`` leaves ``stats["transitions"]`` as ``None``: the exact count
+        ``Σ_σ |Z ∩ En_σ|`` takes one ``Pre`` and one count per event, a noticeable share
+        of the run time of products with thousands of events.
+    accessible : bool, optional
+        ``False`` computes the supervisor on the whole state space, without
+        ``Reach(P)`` (module docstring): the same languages, initial state and reachable
+        part, but unreachable states too, so ``stats`` leaves ``states``,
+        ``transitions`` and ``marked`` as ``None`` (``stats["accessible"]`` says which);
+        :func:`accessible_part` gives the trim supervisor and its counts.
 
-    Raises :class:`~supcoord.errors.AlphabetError` (see :func:`check_alphabets`) and
-    :class:`~supcoord.errors.NondeterminismError` for a nondeterministic ``G`` or ``E``."""
+    Returns
+    -------
+    SupconResult
+        ``supervisor`` (symbolic; no initial state when the supervisor is empty) and
+        ``stats``: ``states``, ``transitions``, ``marked`` (exact counts),
+        ``bdd_nodes`` (the supervisor's shared DAG, nodes), ``set_nodes`` (its state
+        set, nodes), ``iterations`` (passes of the nonblocking/controllability loop),
+        ``seconds`` (wall-clock time, s), ``accessible``, ``effort`` (seconds per stage
+        and CUDD's counters, also as ``effort``).
+
+    Raises
+    ------
+    AlphabetError
+        ``G``'s alphabet is empty, or ``E`` has an event ``G`` lacks or with another
+        controllability (:func:`check_alphabets`).
+    NondeterminismError
+        ``G`` or ``E`` is nondeterministic.
+    InputError
+        ``E`` lives in another context, shares variables with ``G``, or ``method`` is
+        unknown.
+    BudgetExceeded
+        The context's node or time budget ran out (:class:`~supcoord.bdd.Budget`).
+
+    See Also
+    --------
+    supcon_naive : the explicit twin.
+    supcon_flat : the same on arrays, with libFAUDES's convention.
+    supcoord.synthesis.ccc.ccc : the Complete Coordination Checker of the result.
+
+    References
+    ----------
+    .. [1] P. J. Ramadge, W. M. Wonham, "Supervisory control of a class of discrete
+       event processes", SIAM J. Control Optim. 25(1), 206-230, 1987.
+    .. [2] W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*,
+       Springer, 2019, sec. 3.5-3.7.
+    .. [3] M. Macktoobian, D. Gillet, J.-P. Kneib, "Supervisory coordination of robotic
+       fiber positioners in multi-object spectrographs", IFAC-PapersOnLine 52(3), 2019,
+       doi:10.1016/j.ifacol.2019.06.011.
+
+    Examples
+    --------
+    A machine that may start (``a``) and then finishes (``u``, uncontrollable), or may
+    break down (``b``) into a state it never leaves; the specification allows every
+    event, so the supervisor only removes the blocking ``b``:
+
+    >>> from supcoord.bdd import Context
+    >>> from supcoord.des.generator import Event, Generator
+    >>> from supcoord.des.symbolic import from_explicit, to_explicit
+    >>> a, b, u = Event("a", True), Event("b", True), Event("u", False)
+    >>> G0 = Generator(3, [a, b, u], [(0, "a", 1), (1, "u", 0), (0, "b", 2)], 0, [0], name="G")
+    >>> E0 = Generator(1, [a, b, u], [(0, "a", 0), (0, "u", 0), (0, "b", 0)], 0, [0], name="E")
+    >>> ctx = Context()
+    >>> result = supcon(from_explicit(ctx, G0), from_explicit(ctx, E0))
+    >>> result.stats["states"], result.stats["transitions"], result.stats["marked"]
+    (2, 2, 1)
+    >>> sorted(to_explicit(result.supervisor).enabled(0))
+    ['a']
+    """
     t0 = time.perf_counter()
     ctx = G.ctx
     with EffortMeter(ctx) as meter:
@@ -191,7 +288,7 @@ def supcon(G: SymbolicGenerator, E: SymbolicGenerator, *, name: str = "V", metho
     return SupconResult(V, stats, effort)
 
 
-def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> dict[str, Any]:
+def _counts(V: SymbolicGenerator, count_transitions: bool, accessible: bool) -> SupervisorCounts:
     """The sizes of a supervisor; exact counts only for an accessible one."""
     ctx = V.ctx
     return {
@@ -245,7 +342,7 @@ def supcon_naive(G: Generator, E: Generator, name: str = "V") -> Generator:
 
 
 def supcon_flat(plants: list[FlatGenerator], specs: list[FlatGenerator], *, name: str = "V",
-                labels: list[str] | None = None, check=None) -> tuple[FlatGenerator, dict[str, Any]]:
+                labels: list[str] | None = None, check=None) -> tuple[FlatGenerator, FlatSupconStats]:
     """:func:`supcon` of ``sync(plants)`` for ``sync(specs)`` lifted to the plant alphabet
     (a specification leaves the events it lacks free), on the explicit product.
 
@@ -286,6 +383,6 @@ def supcon_flat(plants: list[FlatGenerator], specs: list[FlatGenerator], *, name
     shown = [j for j, c in enumerate(comps) if c.n_states > 1]
     names = state_names([labels[j] for j in shown], [P.states[order, j] for j in shown]) if len(order) else None
     V = renumber(whole, order, name, names)
-    stats = {"states": V.n_states, "transitions": V.n_transitions, "marked": len(V.marked), "bdd_nodes": 0,
-             "set_nodes": 0, "iterations": i, "seconds": time.perf_counter() - t0}
+    stats: FlatSupconStats = {"states": V.n_states, "transitions": V.n_transitions, "marked": len(V.marked),
+                              "bdd_nodes": 0, "set_nodes": 0, "iterations": i, "seconds": time.perf_counter() - t0}
     return V, stats

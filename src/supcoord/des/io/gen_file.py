@@ -51,9 +51,10 @@ index as soon as some state is named or the indices are not ``1…n`` in order. 
 empty alphabet is legal here (the synthesis layer rejects it).
 
 The writer (:mod:`.gen_write`) writes what ``faudes.System.Write()`` writes.  The
-reader is :mod:`.gen_tokens` (tokens and libFAUDES's cursor), :mod:`.gen_parser`
-(the grammar), :mod:`.gen_bulk` (large plain sections a column at a time) and
-:mod:`.gen_build` (the generator in libFAUDES's index space).
+reader is :mod:`.gen_tokens` (text to tokens, libFAUDES's cursor and its rules for
+numbers and symbols), :mod:`.gen_parser` (the sections of both layouts) and
+:mod:`.gen_build` (the generator in libFAUDES's index space, and the fast path that
+fills it from large plain sections a column at a time).
 
 References
 ----------
@@ -66,9 +67,9 @@ from __future__ import annotations
 
 import os
 
+from ..flat import FlatGenerator
 from ..generator import Generator
 from .files import read_bytes
-from ..flat import FlatGenerator
 from .gen_parser import MAX_STATES, parse_text  # noqa: F401  (MAX_STATES: importable from here too)
 from .gen_tokens import Token, TokenReader, tokenize, valid_symbol  # noqa: F401  (Token: likewise)
 from .gen_write import NAMES_IN_TRANSITIONS_UP_TO, format_gen, write_gen, write_gen_flat  # noqa: F401

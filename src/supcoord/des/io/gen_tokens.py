@@ -15,13 +15,15 @@ a negative number a *float*; everything else, and every quoted string, is a
 *string*.  The readers use these kinds as libFAUDES does: an integer where a state is
 expected is a state index, and after an element the tokens that are neither strings
 nor integers are its attribute (``AttrType::Skip``: ``0x01``, ``+C+``, ``true``, a
-section ``<Tag>…</Tag>``).  Errors raise :class:`~supcoord.errors.FormatError` naming
+section ``<Tag>…</Tag>``).  :func:`valid_symbol` is libFAUDES's rule for the names
+of events and states (``SymbolTable::ValidSymbol``).  Errors raise :class:`~supcoord.errors.FormatError` naming
 the line; lines are counted only when an error needs one.
 
 References
 ----------
 - T. Moor, K. Schmidt et al., libFAUDES reference, "Token IO" (``cfl_token.cpp``,
-  ``cfl_tokenreader.cpp``, ``cfl_types.cpp``), https://fgdes.tf.fau.de/faudes
+  ``cfl_tokenreader.cpp``, ``cfl_types.cpp``) and ``cfl_symboltable.cpp``,
+  https://fgdes.tf.fau.de/faudes
 """
 
 from __future__ import annotations
@@ -30,9 +32,58 @@ import re
 from dataclasses import dataclass, field
 
 from ...errors import FormatError
-from .gen_symbols import IDX_MAX, bare_kind, valid_symbol  # noqa: F401  (importable from here too)
 
-__all__ = ["Token", "TokenReader", "tokenize", "valid_symbol", "bare_kind"]
+__all__ = ["IDX_MAX", "Mark", "Token", "TokenReader", "bare_kind", "tokenize", "valid_symbol"]
+
+_DECIMAL_RE = re.compile(r"(\d*)(?:\.(\d*))?")
+_HEX_RE = re.compile(r"0x([0-9a-fA-F]*)")
+_NEGATIVE_RE = re.compile(r"-(\d*)(?:\.\d*)?")
+
+_WORDS = frozenset(["true", "True", "false", "False", "inf"])
+#: libFAUDES's ``Idx`` maximum, the value of ``inf``
+IDX_MAX = 2**32 - 1
+
+
+def bare_kind(text: str) -> tuple[str, int | None]:
+    """libFAUDES's reading of a bare (unquoted) string: ``(kind, value)``.
+
+    >>> [bare_kind(s) for s in ("12", "007", "0x0b", "true", "-3", "1.5", "a1")]
+    [('integer', 12), ('integer', 7), ('integer16', 11), ('boolean', 1), ('float', None), ('integer', 1), ('string', None)]
+    """
+    c = text[:1]
+    if c.isalpha() and text not in _WORDS:
+        return "string", None
+    if text.isdigit() and text.isascii():
+        digits = text.lstrip("0")
+        # beyond any index libFAUDES accepts; not converted (Python refuses 4,300+ digits)
+        return "integer", int(digits or "0") if len(digits) <= 30 else 10**30
+    if text in ("true", "True"):
+        return "boolean", 1
+    if text in ("false", "False"):
+        return "boolean", 0
+    if text == "inf":
+        return "integer", IDX_MAX
+    if text == "-inf":
+        return "integer", -IDX_MAX
+    m = _DECIMAL_RE.fullmatch(text)
+    if m and (m.group(1) or m.group(2)):
+        return "integer", int(m.group(1) or "0")
+    m = _HEX_RE.fullmatch(text)
+    if m:
+        return "integer16", int(m.group(1) or "0", 16)
+    m = _NEGATIVE_RE.fullmatch(text)
+    if m and text.strip("-."):
+        return "float", None
+    return "string", None
+
+
+_SYMBOL_RE = re.compile(r'[\x21\x24-\x7e]+')  # printable ASCII without blank, '"' (0x22) and '#' (0x23)
+
+
+def valid_symbol(name: str) -> bool:
+    """libFAUDES's ``SymbolTable::ValidSymbol``: printable ASCII, no blank, ``"`` or ``#``."""
+    return _SYMBOL_RE.fullmatch(name) is not None
+
 
 _ENTITIES = {"&amp;": "&", "&quot;": '"', "&apos;": "'", "&lt;": "<", "&gt;": ">"}
 _ENTITY_RE = re.compile(r"&[^;\s&]*;")
@@ -44,6 +95,8 @@ _SQ_RE = re.compile(r"'([^'<>]*)'")
 _OPT_RE = re.compile(r"\+([^+<>]*)\+")
 _ATTR_RE = re.compile(r"""[\x00-\x20]*([^\x00-\x20=/>]+)[\x00-\x20]*=[\x00-\x20]*("[^"<>]*"|'[^'<>]*'|[^\x00-\x20"'<>/]+)""")
 _TAG_RE = re.compile(r"[A-Za-z_:][^\x00-\x20/>]*")
+
+
 @dataclass
 class Token:
     """One libFAUDES token: ``begin``/``end`` markup, ``string`` (quoted or bare) or ``option``."""
@@ -102,12 +155,16 @@ def _decode(raw: str) -> str:
     return _ENTITY_RE.sub(lambda m: _ENTITIES.get(m.group(0), m.group(0)), raw)
 
 
+#: a reader's position, to come back to: ``(pos, open sections, tokens read ahead)``
+Mark = tuple[int, list[str], list[Token]]
+
+
 class TokenReader:
     """A lazy cursor over libFAUDES token text, tracking nested sections as libFAUDES does."""
 
     def __init__(self, text: str, where: str = "<string>", raw: bytes | None = None):
         self.text, self.where = text, where
-        #: the text as bytes, one per character (Latin-1), for the checks of :mod:`.gen_bulk`
+        #: the text as bytes, one per character (Latin-1), for the checks of the fast path in :mod:`.gen_build`
         self.raw = raw if raw is not None else text.encode("latin-1", errors="replace")
         self.pos = 0  # where the next token starts scanning
         self.stack: list[str] = []  # labels of the open sections
@@ -124,10 +181,10 @@ class TokenReader:
         return FormatError(f"line {self.line_at(pos)}: {msg}", value=value if value is not None else msg,
                            where=self.where)
 
-    def mark(self) -> tuple[int, list[str], list[Token]]:
+    def mark(self) -> Mark:
         return self.pos, list(self.stack), list(self._peeked)
 
-    def reset(self, mark: tuple[int, list[str], list[Token]]) -> None:
+    def reset(self, mark: Mark) -> None:
         self.pos, self.stack, self._peeked = mark[0], list(mark[1]), list(mark[2])
 
     # -- scanning ---------------------------------------------------------------

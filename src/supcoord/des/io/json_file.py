@@ -16,20 +16,40 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Callable
+from typing import Any, Callable, NotRequired, TypedDict
 
 from ...errors import FormatError, InputError, NondeterminismError
 from ..generator import Event, Generator
 from .files import read_bytes, write_atomic
 
-__all__ = ["generator_to_dict", "generator_from_dict", "parse_json", "format_json", "read_json", "write_json"]
+__all__ = ["GeneratorDocument", "EventDocument", "generator_to_dict", "generator_from_dict", "parse_json", "format_json", "read_json", "write_json"]
 
 _FIELDS = {"name", "states", "init", "marked", "events", "transitions", "state_names"}
 
 
-def generator_to_dict(g: Generator) -> dict[str, Any]:
+class EventDocument(TypedDict):
+    """An event of a JSON generator."""
+
+    name: str
+    controllable: bool
+
+
+class GeneratorDocument(TypedDict):
+    """A JSON generator (module docstring): states ``0…states-1``, transitions as
+    ``[source, event name, target]``."""
+
+    name: str
+    states: int
+    init: int | None
+    marked: list[int]
+    events: list[EventDocument]
+    transitions: list[list[int | str]]
+    state_names: NotRequired[list[str]]
+
+
+def generator_to_dict(g: Generator) -> GeneratorDocument:
     """``g`` as the JSON object of ``docs/formats.md``."""
-    d: dict[str, Any] = {
+    d: GeneratorDocument = {
         "name": g.name,
         "states": g.n_states,
         "init": g.init,
