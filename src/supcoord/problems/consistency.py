@@ -1,11 +1,11 @@
 """Consistency checks of a :class:`Problem` and a :class:`Plan` at the library's boundary.
 
-A ``Problem`` is validated when it is parsed, but it is a plain object: a user may replace
-``problem.target`` by a float array, a list or ``None`` afterwards, or set ``kinematics``
-to ``None``.  Its arrays (``bases``, ``buffers``, ``start``, ``target``) are read-only
-(``Problem.__post_init__``), so they cannot be changed in place; :func:`check_problem`, called where
-a public function takes a problem (``solve``, ``validate_plan``, ``plan_from_moves``, the
-figures), catches a replaced field before it reaches the planner, where it could raise a
+A ``Problem`` is validated when it is parsed, and it is immutable: assigning a field raises
+and its arrays (``bases``, ``buffers``, ``start``, ``target``) are read-only.  But a user may
+build one with ``Problem(...)`` or :func:`dataclasses.replace` whose ``target`` is a float
+array, a list or ``None``, or whose ``kinematics`` is ``None``; :func:`check_problem`, called
+where a public function takes a problem (``solve``, ``validate_plan``, ``plan_from_moves``,
+the figures), catches such a field before it reaches the planner, where it could raise a
 raw ``IndexError`` or loop forever.  :func:`plan_defects` lists what is malformed in a
 ``Plan`` (fields of the wrong type, configurations that are not integer arrays of the
 problem's shape), for ``validate_plan`` to report instead of raising, and

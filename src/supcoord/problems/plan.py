@@ -244,8 +244,8 @@ def reversed_moves(moves: Sequence[Move]) -> list[Move]:
 
 def exchanged(problem: Problem) -> Problem:
     """``problem`` with start and target exchanged (the same tables and guards)."""
-    back = copy.copy(problem)
-    back.start, back.target = problem.target.copy(), problem.start.copy()
+    back = copy.copy(problem)  # shares the tables and every cache: none depends on start or target
+    back.__dict__.update(start=problem.target, target=problem.start)  # a Problem refuses assignment
     return back
 
 
