@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FormatError, InputError
-from ..geometry.instruments import PRESETS
+from ..geometry.presets_table import PRESETS
 from ..geometry.kinematics import _is_int
 from ..geometry.layout import _finite_number, _short
 from .instrument import LAYOUT_FIELDS

@@ -1,6 +1,6 @@
 """Random problems on an instrument's geometry (a hex grid of the preset's pitch and arms).
 
-The instrument numbers live in :mod:`supcoord.geometry.instruments`.
+The instrument numbers live in :mod:`supcoord.geometry.presets_table`.
 """
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.instruments import folded_position, get_preset, preset_kinematics
+from ..geometry.presets_table import folded_position, get_preset, preset_kinematics
 from .problem import Problem
 from .random import random_problem
 

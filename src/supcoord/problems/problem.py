@@ -14,7 +14,7 @@ does not know (a typo such as ``"prority"``) is not an error but is reported in
 :attr:`Problem.warnings`, which the command line prints on standard error.
 
 An optional top-level ``"preset"`` (``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``;
-:mod:`supcoord.geometry.instruments`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
+:mod:`supcoord.geometry.presets_table`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
 ``kinematics.kind`` (``alpha-beta``), ``alpha``, ``beta``, ``beta_range``, and
 ``collision.buffer``; values given in the file win.  The discretisation
 (``alpha_steps``, ``beta_steps``) is never implied, since it gives the positions their
