@@ -29,8 +29,7 @@ from ..geometry.layout import _finite_number, _short
 from ..instruments import load_instrument, motion_limits
 from .plan import Plan, exchanged
 from .problem import Problem, read_json
-from .validate import validate_plan
-from .validate_motion import _trajectory_poses
+from .validate import trajectory_poses, validate_plan
 
 __all__ = ["JaegerCheck", "read_jaeger", "check_jaeger", "MAX_JAEGER_BYTES"]
 
@@ -141,7 +140,7 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
         raise InputError(f"must be a speed in RPM > 0, got {max_rpm!r}", value=max_rpm, where="max_rpm")
     limit = float(max_rpm) * 6.0
     result = validate_plan(problem, Plan("complete", trajectories=trajs), resolution)
-    times, _ = _trajectory_poses(trajs)
+    times, _ = trajectory_poses(trajs)
     problems = list(result["problems"])
     fastest = max((float(np.max(np.abs(np.diff(a[:, 1]) / np.diff(a[:, 0])))) for r in trajs for a in r.values()
                    if len(a) > 1), default=0.0)
