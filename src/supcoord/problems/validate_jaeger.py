@@ -91,23 +91,25 @@ def read_jaeger(data: Any, problem: Problem, where: str | None = None) -> list[d
         if not isinstance(robot, dict) or set(robot) != set(_JOINTS):
             raise FormatError(f"{name} must be {{\"alpha\": [[deg, s], ...], \"beta\": [[deg, s], ...]}}, got "
                               f"{_short(robot)}", value=robot, where=where)
-        arrays = {}
-        for joint in _JOINTS:
-            pts = robot[joint]
-            if not isinstance(pts, list) or not pts:
-                raise FormatError(f"{name}.{joint} must be a non-empty list of [deg, s]", value=pts, where=where)
-            for i, pt in enumerate(pts):
-                if not (isinstance(pt, (list, tuple)) and len(pt) == 2 and all(_finite_number(v) for v in pt)
-                        and abs(pt[0]) <= 1e9 and 0 <= pt[1] <= 1e15):
-                    raise FormatError(f"{name}.{joint}[{i}] must be [deg, s] (|deg| <= 1e9, 0 <= s <= 1e15), got "
-                                      f"{_short(pt)}", value=pt, where=where)
-                if i and pt[1] <= pts[i - 1][1]:
-                    raise FormatError(f"{name}.{joint}[{i}]: times must increase, got {pt[1]!r} after "
-                                      f"{pts[i - 1][1]!r}", value=pt[1], where=where)
-            arrays[joint] = np.array([[float(t), float(a)] for a, t in pts])
-        out[index[name]] = arrays
+        out[index[name]] = {joint: _joint_points(f"{name}.{joint}", robot[joint], where) for joint in _JOINTS}
     return [r if r is not None else {j: np.array([[0.0, float(start[p, i])]]) for i, j in enumerate(_JOINTS)}
             for p, r in enumerate(out)]
+
+
+def _joint_points(name: str, pts: Any, where: str | None) -> np.ndarray:
+    """One joint's jaeger points ``[[deg, s], ...]`` as the validator's ``(K, 2) [t, deg]``;
+    ``name``: ``"<positioner ID>.<joint>"``, named by every error."""
+    if not isinstance(pts, list) or not pts:
+        raise FormatError(f"{name} must be a non-empty list of [deg, s]", value=pts, where=where)
+    for i, pt in enumerate(pts):
+        if not (isinstance(pt, (list, tuple)) and len(pt) == 2 and all(_finite_number(v) for v in pt)
+                and abs(pt[0]) <= 1e9 and 0 <= pt[1] <= 1e15):
+            raise FormatError(f"{name}[{i}] must be [deg, s] (|deg| <= 1e9, 0 <= s <= 1e15), got "
+                              f"{_short(pt)}", value=pt, where=where)
+        if i and pt[1] <= pts[i - 1][1]:
+            raise FormatError(f"{name}[{i}]: times must increase, got {pt[1]!r} after "
+                              f"{pts[i - 1][1]!r}", value=pt[1], where=where)
+    return np.array([[float(t), float(a)] for a, t in pts])
 
 
 def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None, reverse: bool = False,
