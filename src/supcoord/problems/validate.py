@@ -31,7 +31,7 @@ neighbour (``dist(S_a(t), S_b(t)) ≥ r_a + r_b``) nor a fixed obstacle
 an offline robot (``problem.held``) never leaves its angles and no robot under a joint rule
 (``problem.joint_rules``) enters its forbidden half-plane ``β < c0 + c1·α``.  A step that
 turns a joint by more than a full turn is checked one turn at a time (the same motion); one
-of more than :data:`MAX_TURNS` turns is reported and not checked.
+of more than :data:`~.validate_motion.MAX_TURNS` turns is reported and not checked.
 
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
