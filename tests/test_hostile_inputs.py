@@ -4,6 +4,7 @@ taken silently: each is now one line on stderr and exit 2."""
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import io
 import json
 from pathlib import Path
@@ -137,8 +138,7 @@ MUTATIONS = {
 def test_a_mutated_problem_is_refused_by_solve_validate_and_figures(solved, mutation, tmp_path):
     problem, plan = solved
     field, value = MUTATIONS[mutation]
-    bad = copy.deepcopy(problem)
-    setattr(bad, field, value(bad))
+    bad = dataclasses.replace(copy.deepcopy(problem), **{field: value(problem)})  # a Problem refuses assignment
     for call in (lambda: supcoord.solve(bad), lambda: supcoord.validate_plan(bad, plan),
                  lambda: supcoord.plan_from_moves(bad, []), lambda: supcoord.save_plan_strip(bad, plan, tmp_path / "s.png")):
         with answers_within(20), pytest.raises(InputError, match=f"problem.{field}"):

@@ -8,7 +8,7 @@ import pytest
 from supcoord.errors import FormatError, InputError
 from supcoord.geometry import AlphaBeta, Rotary, hex_count, hex_grid, layout_from_spec, points_layout
 from supcoord.geometry.collision import colliding_pairs
-from supcoord.geometry.instruments import PRESETS, folded_position, preset_kinematics
+from supcoord.geometry.presets_table import PRESETS, folded_position, preset_kinematics
 from supcoord.geometry.kinematics import kinematics_from_spec
 from supcoord.problems.presets import preset_problem
 

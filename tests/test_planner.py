@@ -115,9 +115,9 @@ def test_priority_breaks_ties():
         model = CoordinationModel(p)
         S = model.system([0, 1], None)
         lay = move_layers(S, S.marked)
-        p.priority = [1, 2]
+        p.priority[:] = [1, 2]  # the model holds this problem: its priority list, changed in place
         a = witness_moves(S, lay, p.start)
-        p.priority = [2, 1]
+        p.priority[:] = [2, 1]
         b = witness_moves(S, lay, p.start)
         assert len(a) == len(b) == lay.rank(S.init)
         if a[0][0] != b[0][0]:

@@ -4,6 +4,7 @@ The brute force here uses the validator's segment distance (an independent algor
 densely sampled poses, so it shares no formula with :mod:`supcoord.geometry.sweep`.
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -494,8 +495,9 @@ def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
     # the guards, on a tight problem of robots on their own lattices, tables whole or lazy
     data = tight_angle_problem(seed, n=3, max_product=60_000)
     eager_p, lazy_p = parse_problem(data), parse_problem(data)
-    lazy_p._tables = CollisionTables(lazy_p.kinematics, lazy_p.bases, lazy_p.buffers,
-                                     kins=lazy_p.robot_kinematics, unary=lazy_p.unary(), lazy=True)
+    lazy_p = dataclasses.replace(lazy_p, _tables=CollisionTables(lazy_p.kinematics, lazy_p.bases, lazy_p.buffers,
+                                                                 kins=lazy_p.robot_kinematics, unary=lazy_p.unary(),
+                                                                 lazy=True))
     for k in range(len(eager_p.pairs)):
         for side in (0, 1):
             B = guards.blocked_table(eager_p, k, side)

@@ -1,6 +1,7 @@
 """The independent validator; plans of the independent oracle; compaction; PLAN.json."""
 
 import copy
+import dataclasses
 import json
 
 import numpy as np
@@ -216,7 +217,7 @@ def test_validator_rebuilds_hex_bases_and_reports_a_wrong_one():
             "collision": {"buffer": 1.0}, "start": [0] * 7, "target": [0] * 7}
     p = parse_problem(data)
     assert validate_plan(p, Plan("complete", [p.start]))["valid"]
-    p.bases = p.bases[[0, 2, 1, 3, 4, 5, 6]]  # as if the layout had swapped two positioners
+    p = dataclasses.replace(p, bases=p.bases[[0, 2, 1, 3, 4, 5, 6]])  # as if the layout had swapped two positioners
     r = validate_plan(p, Plan("complete", [p.start]))
     assert not r["valid"] and "layout: base of positioner 1 is [11.2, 19.399] but the hex ordering" in r["problems"][0]
 
@@ -263,7 +264,7 @@ def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle
     nxt = k.step(qa, joint, delta)
     if nxt is None:  # past a hard stop: no motion to validate
         return
-    p.start, p.target = np.array([qa, qb]), np.array([nxt, qb])
+    p = dataclasses.replace(p, start=np.array([qa, qb]), target=np.array([nxt, qb]))
     result = validate_plan(p, Plan("complete", [p.start, p.target]))
     d = np.zeros(k.n_joints)
     d[joint] = delta

@@ -152,7 +152,7 @@ _LAZY: dict[str, str] = {
     "parse_problem": "supcoord.problems.problem",
     "random_problem": "supcoord.problems.random",
     "preset_problem": "supcoord.problems.presets",
-    "PRESETS": "supcoord.geometry.instruments",
+    "PRESETS": "supcoord.geometry.presets_table",
     "Plan": "supcoord.problems.plan",
     "load_plan": "supcoord.problems.plan",
     "plan_from_moves": "supcoord.problems.plan",
@@ -262,7 +262,7 @@ if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
     from .des.io.dot_file import to_dot
     from .des.symbolic import SymbolicGenerator, from_explicit, to_explicit
     from .figures import plot_problem, save_plan_gif, save_plan_strip
-    from .geometry.instruments import PRESETS
+    from .geometry.presets_table import PRESETS
     from .instruments import folded_configuration, load_instrument, random_wok_targets, wok_problem, wok_targets
     from .paper.coupled import CoupledModel, Geometry, coupled_models
     from .paper.demo import describe, run_demo

@@ -35,6 +35,35 @@ def _short(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+def _is_bool(v: Any) -> bool:
+    return isinstance(v, (bool, getattr(sys.modules.get("numpy"), "bool_", bool)))
+
+
+def _is_sequence(v: Any) -> bool:
+    return isinstance(v, (list, tuple)) or type(v).__name__ == "ndarray"
+
+
+def _is_iterable(v: Any) -> bool:
+    return isinstance(v, collections.abc.Iterable) and not isinstance(v, (str, bytes))
+
+
+#: the predicates of plain annotations (after ``list[int] -> list``)
+_PLAIN: dict[Any, Callable[[Any], bool]] = {
+    _NONE: lambda v: v is None,
+    None: lambda v: v is None,
+    bool: _is_bool,
+    int: lambda v: isinstance(v, numbers.Integral) and not isinstance(v, bool),
+    float: lambda v: isinstance(v, numbers.Real) and not isinstance(v, bool),
+    str: lambda v: isinstance(v, str),
+    collections.abc.Sequence: _is_sequence, list: _is_sequence, tuple: _is_sequence,
+    collections.abc.Iterable: _is_iterable, collections.abc.Collection: _is_iterable,
+    collections.abc.Callable: callable,
+    collections.abc.Mapping: lambda v: isinstance(v, collections.abc.Mapping),
+    dict: lambda v: isinstance(v, collections.abc.Mapping),
+    os.PathLike: lambda v: isinstance(v, os.PathLike),
+}
+
+
 def _check_for(annotation: Any) -> Callable[[Any], bool] | None:
     """A predicate for values of ``annotation``, or None when it is not checked at run time."""
     if annotation is Any or annotation is object or isinstance(annotation, typing.TypeVar):
@@ -52,26 +81,12 @@ def _check_for(annotation: Any) -> Callable[[Any], bool] | None:
         annotation = origin  # list[int] -> list, Sequence[str] -> Sequence, Callable[...] -> Callable
     if getattr(annotation, "__module__", "") == "typing" or getattr(annotation, "_is_protocol", False):
         return None  # typing.IO and friends, supcoord.bdd.BDD: protocols, not runtime classes
-    if annotation is _NONE or annotation is None:
-        return lambda v: v is None
-    if annotation is bool:
-        return lambda v: isinstance(v, (bool, getattr(sys.modules.get("numpy"), "bool_", bool)))
-    if annotation is int:
-        return lambda v: isinstance(v, numbers.Integral) and not isinstance(v, bool)
-    if annotation is float:
-        return lambda v: isinstance(v, numbers.Real) and not isinstance(v, bool)
-    if annotation is str:
-        return lambda v: isinstance(v, str)
-    if annotation in (collections.abc.Sequence, list, tuple):
-        return lambda v: isinstance(v, (list, tuple)) or type(v).__name__ == "ndarray"
-    if annotation in (collections.abc.Iterable, collections.abc.Collection):
-        return lambda v: isinstance(v, collections.abc.Iterable) and not isinstance(v, (str, bytes))
-    if annotation is collections.abc.Callable:
-        return callable
-    if annotation is collections.abc.Mapping or annotation is dict:
-        return lambda v: isinstance(v, collections.abc.Mapping)
-    if annotation is os.PathLike:
-        return lambda v: isinstance(v, os.PathLike)
+    try:
+        plain = _PLAIN.get(annotation)
+    except TypeError:  # an unhashable annotation: not a class
+        plain = None
+    if plain is not None:
+        return plain
     if isinstance(annotation, type):
         return lambda v: isinstance(v, annotation)
     return None

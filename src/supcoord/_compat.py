@@ -42,7 +42,7 @@ MOVED: dict[str, str] = {
     "positioners.layout": "geometry.layout",
     "positioners.kinematics": "geometry.kinematics",
     "positioners.collision": "geometry.collision",
-    "positioners.presets": "geometry.instruments",
+    "positioners.presets": "geometry.presets_table",
     "positioners.problem": "problems.problem",
     "positioners.plan": "problems.plan",
     "positioners.random_problems": "problems.random",

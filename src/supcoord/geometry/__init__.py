@@ -17,7 +17,7 @@ from .collision import (
     static_table,
     swept_table,
 )
-from .instruments import PRESETS, Preset, folded_position, preset_kinematics
+from .presets_table import PRESETS, Preset, folded_position, preset_kinematics
 from .kinematics import AlphaBeta, Joint, Kinematics, Rotary, kinematics_from_spec
 from .layout import hex_count, hex_grid, layout_from_spec, points_layout
 

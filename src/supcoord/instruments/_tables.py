@@ -93,22 +93,7 @@ def parse_table(
                 where = f"{file} line {line}, column {col}"
                 if k >= len(row):
                     raise FormatError(f"row has {len(row)} cells, {col!r} is column {k + 1}", value=None, where=where)
-                raw = row[k].strip()
-                if col in texts:
-                    if not raw:
-                        raise FormatError("empty value", value=raw, where=where)
-                    cells[col].append(raw)
-                    continue
-                if not raw and col in optional_numbers:
-                    cells[col].append(math.nan)
-                    continue
-                try:
-                    val = float(raw)
-                except ValueError:
-                    raise FormatError(f"not a number: {raw[:40]!r}", value=raw[:40], where=where) from None
-                if not math.isfinite(val):
-                    raise FormatError(f"not a finite number: {raw[:40]!r}", value=raw[:40], where=where)
-                cells[col].append(val)
+                cells[col].append(_cell(row[k].strip(), col in texts, col in optional_numbers, where))
     except csv.Error as exc:
         raise FormatError(f"bad CSV: {exc}", value=None, where=f"{file} line {line}") from None
     if index and not cells[next(iter(index))]:
@@ -117,3 +102,20 @@ def parse_table(
     for col, vals in cells.items():
         out[col] = tuple(vals) if col in texts else np.asarray(vals, dtype=float)
     return out
+
+
+def _cell(raw: str, text: bool, optional: bool, where: str) -> str | float:
+    """One stripped cell: a non-empty text, or a finite number (NaN where ``optional`` and empty)."""
+    if text:
+        if not raw:
+            raise FormatError("empty value", value=raw, where=where)
+        return raw
+    if not raw and optional:
+        return math.nan
+    try:
+        val = float(raw)
+    except ValueError:
+        raise FormatError(f"not a number: {raw[:40]!r}", value=raw[:40], where=where) from None
+    if not math.isfinite(val):
+        raise FormatError(f"not a finite number: {raw[:40]!r}", value=raw[:40], where=where)
+    return val

@@ -91,8 +91,35 @@ def _known(name: str) -> str:
 
 
 def collision_definition(name: str) -> CollisionDefinition:
-    """The collision definition of instrument ``name`` (module docstring): SDSS-V's is kaiju's
-    at its 0.1° step, ``2 · 2.0 + 0.0782`` mm between robots, ``2.0 + 3.0`` mm to obstacles."""
+    """The collision definition of instrument ``name`` (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        ``"sdss-v-apo"`` or ``"sdss-v-lco"``.
+
+    Returns
+    -------
+    CollisionDefinition
+        SDSS-V's is kaiju's at its 0.1° step: ``2 · 2.0 + 0.0782`` mm between robots,
+        ``2.0 + 3.0`` mm to obstacles (buffers and margins in mm).
+
+    Raises
+    ------
+    InputError
+        An unknown instrument.
+
+    Examples
+    --------
+    >>> d = collision_definition("sdss-v-apo")
+    >>> d.name, d.buffer_mm, round(d.margin_mm, 4), d.obstacle_margin_mm
+    ('sdss-v kaiju', 2.0, 0.0782, 0.0)
+
+    References
+    ----------
+    kaiju (``sdss/kaiju``) ``src/robotGrid.cpp`` and ``python/kaiju/robotGrid.py`` at the
+    commit named in ``source``; ``docs/instruments.md``.
+    """
     _known(name)
     margin = 2 * math.sin(math.radians(KAIJU_ANG_STEP)) * sum(ROUGH_ARMS)
     return CollisionDefinition(
@@ -103,8 +130,35 @@ def collision_definition(name: str) -> CollisionDefinition:
 
 
 def motion_limits(name: str) -> MotionLimits:
-    """The motion limits of instrument ``name``'s controller (SDSS-V: jaeger's 2 RPM, at most 3,
-    1 s delay)."""
+    """The motion limits of instrument ``name``'s controller.
+
+    Parameters
+    ----------
+    name : str
+        ``"sdss-v-apo"`` or ``"sdss-v-lco"``.
+
+    Returns
+    -------
+    MotionLimits
+        Joint speeds in RPM of the output shaft (1 RPM = 6°/s) and the start delay (s);
+        SDSS-V: jaeger's 2 RPM, at most 3, 1 s delay.
+
+    Raises
+    ------
+    InputError
+        An unknown instrument.
+
+    Examples
+    --------
+    >>> m = motion_limits("sdss-v-lco")
+    >>> m.rpm, m.max_rpm, m.start_delay_s, m.speed_deg_s
+    (2.0, 3.0, 1.0, 12.0)
+
+    References
+    ----------
+    jaeger (``sdss/jaeger``) ``etc/jaeger_APO.yml`` and kaiju's ``getPathPair`` at the
+    commits named in ``source``; ``docs/instruments.md``.
+    """
     _known(name)
     return MotionLimits(JAEGER_RPM, MAX_RPM, PATH_DELAY_S,
                         f"jaeger src/jaeger/etc/jaeger_APO.yml:74,79 (kaiju.speed 2, path_delay 1) @{JAEGER_COMMIT}; "

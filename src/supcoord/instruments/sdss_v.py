@@ -183,35 +183,13 @@ def _check_flat(file: str, what: str, values: np.ndarray, expected: float) -> No
 
 @lru_cache(maxsize=4)
 def _load(name: str, data_dir: str | None) -> dict:
+    """The fields of :class:`InstrumentGeometry` from the site's calibration tables, checked
+    (a flat wok, orthonormal hole frames, distinct fiducial IDs), arrays read-only."""
     site, site_name = _SITES[name]
     fp, fw, ff = (f"{site}_positionerTable.csv", f"{site}_wokCoords.csv", f"{site}_fiducialCoords.csv")
-    pos = parse_table(fp, read_text(fp, data_dir), texts=("site", "holeID"), numbers=(
-        "positionerID", "alphaArmLen", "metX", "metY", "apX", "apY", "bossX", "bossY",
-        "alphaOffset", "betaOffset", "dx", "dy"))
-    wok = parse_table(fw, read_text(fw, data_dir), texts=("site", "holeID", "holeType"), numbers=(
-        "xWok", "yWok", "zWok", "ix", "iy", "iz", "jx", "jy", "jz", "kx", "ky", "kz"))
-    fid = parse_table(ff, read_text(ff, data_dir), texts=("site", "holeID", "id"),
-                      numbers=("xWok", "yWok", "zWok"), optional_numbers=("row", "col"))
-    fg = f"{site}_gfaCoords.csv"   # read for validation; kaiju models GFAs by its own segments
-    gfa = parse_table(fg, read_text(fg, data_dir), texts=("site",), numbers=("id", "xWok", "yWok"))
-    for file, table in ((fp, pos), (fw, wok), (ff, fid), (fg, gfa)):
-        other = sorted(set(table["site"]) - {site_name})
-        if other:
-            raise FormatError(f"site must be {site_name}", value=other[0], where=f"{file}: site")
-    holes = {h: i for i, h in enumerate(wok["holeID"])}
-    if len(holes) != len(wok["holeID"]):
-        raise FormatError("duplicate holeID", value=next(h for h in holes if wok["holeID"].count(h) > 1),
-                          where=f"{fw}: holeID")
-    rows = []
-    for k, h in enumerate(pos["holeID"]):
-        if h not in holes or "Fiducial" in wok["holeType"][holes[h]]:
-            raise FormatError(f"row {k + 1}: no robot hole {h!r} in {fw}", value=h, where=f"{fp}: holeID")
-        rows.append(holes[h])
-    if len(set(rows)) != len(rows):
-        raise FormatError("two robots in one hole", value=len(rows) - len(set(rows)), where=f"{fp}: holeID")
+    pos, wok, fid = _read_tables(site, site_name, data_dir)
+    rows = _robot_rows(pos, wok, fp, fw)
     ids = pos["positionerID"]
-    if np.any(ids != np.round(ids)) or len(set(ids.tolist())) != len(ids):
-        raise FormatError("positionerID must be distinct integers", value=None, where=f"{fp}: positionerID")
     w = np.asarray(rows)
     for col, expected in (("zWok", 0.0), ("iz", 0.0), ("jz", 0.0), ("kx", 0.0), ("ky", 0.0), ("kz", 1.0)):
         _check_flat(f"{fw}: {col}", col, wok[col][w], expected)
@@ -234,13 +212,7 @@ def _load(name: str, data_dir: str | None) -> dict:
     obstacle_ids = tuple(fid["id"]) + tuple(f"GFA{i + 1}" for i in range(len(GFA_SEGMENTS)))
     if len(set(obstacle_ids)) != len(obstacle_ids):
         raise FormatError("duplicate fiducial id", value=None, where=f"{ff}: id")
-    watch = set()
-    for r, c in zip(fid["row"], fid["col"]):        # kaiju robotGrid.py:1159-1176, verbatim
-        if math.isnan(r) or math.isnan(c):
-            continue
-        p_row = int(r + 1)
-        p_col = int(c - 1) if p_row > 0 else int(c)
-        watch.add(f"R{'+' if p_row > 0 else ''}{p_row}C{p_col}")
+    watch = _watched_holes(fid)
     return {
         "hole_ids": tuple(pos["holeID"]), "positioner_ids": tuple(int(i) for i in ids), "bases": _frozen(bases),
         "alpha_arm": _frozen(pos["alphaArmLen"]), "beta_segment": _frozen(seg), "fibres": fibres,
@@ -254,19 +226,99 @@ def _load(name: str, data_dir: str | None) -> dict:
     }
 
 
+def _read_tables(site: str, site_name: str, data_dir: str | None) -> tuple[dict, dict, dict]:
+    """The site's positioner, wok and fiducial tables (the GFA table is read and checked too;
+    kaiju models the GFAs by its own segments), every row of the site ``site_name``."""
+    fp, fw, ff = (f"{site}_positionerTable.csv", f"{site}_wokCoords.csv", f"{site}_fiducialCoords.csv")
+    pos = parse_table(fp, read_text(fp, data_dir), texts=("site", "holeID"), numbers=(
+        "positionerID", "alphaArmLen", "metX", "metY", "apX", "apY", "bossX", "bossY",
+        "alphaOffset", "betaOffset", "dx", "dy"))
+    wok = parse_table(fw, read_text(fw, data_dir), texts=("site", "holeID", "holeType"), numbers=(
+        "xWok", "yWok", "zWok", "ix", "iy", "iz", "jx", "jy", "jz", "kx", "ky", "kz"))
+    fid = parse_table(ff, read_text(ff, data_dir), texts=("site", "holeID", "id"),
+                      numbers=("xWok", "yWok", "zWok"), optional_numbers=("row", "col"))
+    fg = f"{site}_gfaCoords.csv"   # read for validation; kaiju models GFAs by its own segments
+    gfa = parse_table(fg, read_text(fg, data_dir), texts=("site",), numbers=("id", "xWok", "yWok"))
+    for file, table in ((fp, pos), (fw, wok), (ff, fid), (fg, gfa)):
+        other = sorted(set(table["site"]) - {site_name})
+        if other:
+            raise FormatError(f"site must be {site_name}", value=other[0], where=f"{file}: site")
+    return pos, wok, fid
+
+
+def _robot_rows(pos: dict, wok: dict, fp: str, fw: str) -> list[int]:
+    """Per robot of the positioner table, its hole's row in the wok table (one robot per robot
+    hole, distinct integer positioner IDs)."""
+    holes = {h: i for i, h in enumerate(wok["holeID"])}
+    if len(holes) != len(wok["holeID"]):
+        raise FormatError("duplicate holeID", value=next(h for h in holes if wok["holeID"].count(h) > 1),
+                          where=f"{fw}: holeID")
+    rows = []
+    for k, h in enumerate(pos["holeID"]):
+        if h not in holes or "Fiducial" in wok["holeType"][holes[h]]:
+            raise FormatError(f"row {k + 1}: no robot hole {h!r} in {fw}", value=h, where=f"{fp}: holeID")
+        rows.append(holes[h])
+    if len(set(rows)) != len(rows):
+        raise FormatError("two robots in one hole", value=len(rows) - len(set(rows)), where=f"{fp}: holeID")
+    ids = pos["positionerID"]
+    if np.any(ids != np.round(ids)) or len(set(ids.tolist())) != len(ids):
+        raise FormatError("positionerID must be distinct integers", value=None, where=f"{fp}: positionerID")
+    return rows
+
+
+def _watched_holes(fid: dict) -> set[str]:
+    """The holes beside a fiducial whose robots obey kaiju's joint rule, from the fiducials' row
+    and column."""
+    watch = set()
+    for r, c in zip(fid["row"], fid["col"]):        # kaiju robotGrid.py:1159-1176, verbatim
+        if math.isnan(r) or math.isnan(c):
+            continue
+        p_row = int(r + 1)
+        p_col = int(c - 1) if p_row > 0 else int(c)
+        watch.add(f"R{'+' if p_row > 0 else ''}{p_row}C{p_col}")
+    return watch
+
+
 def load_instrument(name: str, *, data_dir: str | Path | None = None) -> InstrumentGeometry:
-    """The SDSS-V focal plane ``name`` (``"sdss-v-apo"`` or ``"sdss-v-lco"``, case-insensitive).
+    """The SDSS-V focal plane ``name`` from its calibration tables.
 
-    ``data_dir`` reads the same-named CSV files from a directory instead of the package data.
-    The tables are parsed once per name and directory (cached); each call returns a new object
-    sharing the read-only arrays. Raises :class:`InputError` for an unknown name and :class:`FormatError` for a bad table.
+    The tables are parsed once per name and directory (cached); each call returns a new
+    object sharing the read-only arrays.
 
+    Parameters
+    ----------
+    name : str
+        ``"sdss-v-apo"`` or ``"sdss-v-lco"`` (case-insensitive).
+    data_dir : str or os.PathLike, optional
+        A directory holding the same-named CSV files, read instead of the package data.
+
+    Returns
+    -------
+    InstrumentGeometry
+        Robots in the positioner table's order: bases, alpha arms and beta segments (mm),
+        offsets (degrees), fibres; fiducials and guide cameras as obstacles with buffers (mm).
+
+    Raises
+    ------
+    InputError
+        An unknown name.
+    FormatError
+        A calibration table that is missing, malformed or inconsistent (named with its line).
+
+    Examples
+    --------
     >>> load_instrument("sdss-v-lco").positioner_ids[:2]
     (1157, 41)
     >>> load_instrument("desi")
     Traceback (most recent call last):
     ...
     supcoord.errors.InputError: unknown instrument 'desi' (known: sdss-v-apo, sdss-v-lco)
+
+    References
+    ----------
+    C. Sayres et al., SDSS-V Algorithms: Fast, Collision-free Trajectory Planning for Heavily
+    Overlapping Robotic Fiber Positioners, AJ 161, 92 (2021); kaiju (``sdss/kaiju``) and the
+    SDSS-V FPS calibrations (``sdss/fps_calibrations``), ``docs/references.md``.
     """
     key = str(name).strip().lower()
     if key not in _SITES:
@@ -306,22 +358,87 @@ def _to_focal(geom: InstrumentGeometry, p, alpha_deg, beta_deg, pts: np.ndarray)
 
 
 def robot_forward(geom: InstrumentGeometry, p, alpha_deg, beta_deg) -> np.ndarray:
-    """Robot ``p``'s beta collision segment in the focal plane (mm) at joint angles in degrees.
+    """Robot ``p``'s beta collision segment in the focal plane at given joint angles.
 
-    ``p`` indexes ``geom.hole_ids``; ``p``, ``alpha_deg``, ``beta_deg`` broadcast, the result
-    is ``(..., 2, 2)``: ``[..., 0, :]`` the segment's start (on the beta axis), ``[..., 1, :]``
-    its end. The angles are kaiju's commanded angles: the table's ``alphaOffset`` and
-    ``betaOffset`` are added here, and ``dx, dy`` are in ``geom.bases`` (kaiju
-    ``Robot::setAlphaBeta``, ``collisionSegWokXYZ``). Counter-clockwise positive.
+    The angles are kaiju's commanded angles: the table's ``alphaOffset`` and ``betaOffset``
+    are added here, and ``dx, dy`` are in ``geom.bases`` (kaiju ``Robot::setAlphaBeta``,
+    ``collisionSegWokXYZ``). Counter-clockwise positive.
+
+    Parameters
+    ----------
+    geom : InstrumentGeometry
+        The focal plane (:func:`load_instrument`).
+    p : int or array of int
+        Robot indices into ``geom.hole_ids``; broadcast with the angles.
+    alpha_deg, beta_deg : float or array
+        Commanded joint angles (degrees).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 2, 2)`` in mm: ``[..., 0, :]`` the segment's start (on the beta axis),
+        ``[..., 1, :]`` its end.
+
+    Raises
+    ------
+    InputError
+        A robot index that is not an integer in ``[0, N)``.
+
+    Examples
+    --------
+    >>> g = load_instrument("sdss-v-apo")
+    >>> robot_forward(g, [0, 1], 10.0, 170.0).shape
+    (2, 2, 2)
+
+    References
+    ----------
+    C. Sayres et al., SDSS-V Algorithms: Fast, Collision-free Trajectory Planning for Heavily
+    Overlapping Robotic Fiber Positioners, AJ 161, 92 (2021); kaiju (``sdss/kaiju``) and the
+    SDSS-V FPS calibrations (``sdss/fps_calibrations``), ``docs/references.md``.
     """
     p = _robot(geom, p)
     return _to_focal(geom, p, alpha_deg, beta_deg, geom.beta_segment[p])
 
 
 def fibre_xy(geom: InstrumentGeometry, p, alpha_deg, beta_deg, fibre: str = "boss") -> np.ndarray:
-    """Robot ``p``'s fibre (``"metrology"``, ``"apogee"`` or ``"boss"``) in the focal plane, ``(..., 2)`` mm.
+    """Robot ``p``'s fibre in the focal plane at given joint angles.
 
-    Kaiju's ``metWokXYZ``/``apWokXYZ``/``bossWokXYZ`` (x, y) at the same angles.
+    Kaiju's ``metWokXYZ``/``apWokXYZ``/``bossWokXYZ`` (x, y) at the same angles as
+    :func:`robot_forward`.
+
+    Parameters
+    ----------
+    geom : InstrumentGeometry
+        The focal plane (:func:`load_instrument`).
+    p : int or array of int
+        Robot indices into ``geom.hole_ids``; broadcast with the angles.
+    alpha_deg, beta_deg : float or array
+        Commanded joint angles (degrees).
+    fibre : str, default "boss"
+        ``"metrology"``, ``"apogee"`` or ``"boss"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 2)`` focal-plane positions (mm).
+
+    Raises
+    ------
+    InputError
+        An unknown fibre or a bad robot index.
+
+    Examples
+    --------
+    >>> g = load_instrument("sdss-v-apo")
+    >>> xy = fibre_xy(g, 7, 40.0, 100.0)
+    >>> xy.shape, bool(np.hypot(*(xy - g.bases[7])) < 7.6 + 15.0)
+    ((2,), True)
+
+    References
+    ----------
+    C. Sayres et al., SDSS-V Algorithms: Fast, Collision-free Trajectory Planning for Heavily
+    Overlapping Robotic Fiber Positioners, AJ 161, 92 (2021); kaiju (``sdss/kaiju``) and the
+    SDSS-V FPS calibrations (``sdss/fps_calibrations``), ``docs/references.md``.
     """
     if fibre not in FIBRES:
         raise InputError(f"unknown fibre {fibre!r} (known: {', '.join(FIBRES)})", value=fibre)
@@ -330,15 +447,45 @@ def fibre_xy(geom: InstrumentGeometry, p, alpha_deg, beta_deg, fibre: str = "bos
 
 
 def fibre_joints(geom: InstrumentGeometry, p, xy, fibre: str = "boss") -> np.ndarray:
-    """Joint angles ``(..., 2)`` (degrees) putting robot ``p``'s ``fibre`` on focal-plane point ``xy``.
+    """Joint angles putting robot ``p``'s ``fibre`` on a focal-plane point (inverse of :func:`fibre_xy`).
 
     Kaiju's right-handed solution (``Robot::alphaBetaFromWokXYZ``, coordio
-    ``tangentToPositioner``): alpha in ``[0, 360)``, NaN where ``xy`` is out of reach.
+    ``tangentToPositioner``).
 
+    Parameters
+    ----------
+    geom : InstrumentGeometry
+        The focal plane (:func:`load_instrument`).
+    p : int or array of int
+        Robot indices into ``geom.hole_ids``; broadcast with ``xy``.
+    xy : array, ``(..., 2)``
+        Focal-plane points (mm).
+    fibre : str, default "boss"
+        ``"metrology"``, ``"apogee"`` or ``"boss"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 2)`` commanded ``(alpha, beta)`` in degrees, alpha in ``[0, 360)``; NaN where
+        ``xy`` is out of reach.
+
+    Raises
+    ------
+    InputError
+        An unknown fibre or a bad robot index.
+
+    Examples
+    --------
     >>> g = load_instrument("sdss-v-apo")
     >>> ab = fibre_joints(g, 7, fibre_xy(g, 7, 40.0, 100.0))
     >>> np.allclose(ab, [40.0, 100.0])
     True
+
+    References
+    ----------
+    C. Sayres et al., SDSS-V Algorithms: Fast, Collision-free Trajectory Planning for Heavily
+    Overlapping Robotic Fiber Positioners, AJ 161, 92 (2021); kaiju (``sdss/kaiju``), coordio (``sdss/coordio``) and the
+    SDSS-V FPS calibrations (``sdss/fps_calibrations``), ``docs/references.md``.
     """
     if fibre not in FIBRES:
         raise InputError(f"unknown fibre {fibre!r} (known: {', '.join(FIBRES)})", value=fibre)
@@ -359,16 +506,40 @@ def fibre_joints(geom: InstrumentGeometry, p, xy, fibre: str = "boss") -> np.nda
 
 
 def robot_collision_distance(geom: InstrumentGeometry, ang_step_deg: float = 0.0) -> float:
-    """Kaiju's robot-robot collision distance (mm) between two beta segments.
+    """Kaiju's robot-robot collision distance between two beta segments.
 
     Two robots collide when their segments are closer than ``2·robot_buffer`` plus kaiju's
-    step margin ``2·sin(ang_step)·(7.4 + 15)`` (``RobotGrid::robotColliders``): 4.0 mm at 0,
-    4.078 mm at kaiju's default 0.1° step, 4.782 mm at 1°. Obstacles use
-    ``robot_buffer + obstacle_buffers`` with no margin.
+    step margin ``2·sin(ang_step)·(7.4 + 15)`` (``RobotGrid::robotColliders``). Obstacles
+    use ``robot_buffer + obstacle_buffers`` with no margin.
 
+    Parameters
+    ----------
+    geom : InstrumentGeometry
+        The focal plane (:func:`load_instrument`).
+    ang_step_deg : float, default 0.0
+        kaiju's planning step (degrees, >= 0; kaiju's default is 0.1).
+
+    Returns
+    -------
+    float
+        The distance (mm): 4.0 at 0, 4.078 at 0.1°, 4.782 at 1°.
+
+    Raises
+    ------
+    InputError
+        A step that is negative or not finite.
+
+    Examples
+    --------
     >>> g = load_instrument("sdss-v-apo")
     >>> [round(robot_collision_distance(g, s), 4) for s in (0, 0.1, 1)]
     [4.0, 4.0782, 4.7819]
+
+    References
+    ----------
+    C. Sayres et al., SDSS-V Algorithms: Fast, Collision-free Trajectory Planning for Heavily
+    Overlapping Robotic Fiber Positioners, AJ 161, 92 (2021); kaiju (``sdss/kaiju``) and the
+    SDSS-V FPS calibrations (``sdss/fps_calibrations``), ``docs/references.md``.
     """
     step = float(ang_step_deg)
     if not math.isfinite(step) or step < 0:

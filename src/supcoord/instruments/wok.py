@@ -27,9 +27,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.segments import point_segment_distance, segment_distance
+from ..geometry.segments import segment_distance
 from .acceptance import collision_definition
-from .sdss_v import FIBRES, FIDUCIAL_WATCH, InstrumentGeometry, fibre_joints, fibre_xy, load_instrument, robot_forward
+from .sdss_v import FIBRES, FIDUCIAL_WATCH, InstrumentGeometry, fibre_joints, load_instrument, robot_forward
 
 __all__ = ["folded_configuration", "random_wok_targets", "wok_targets", "wok_problem", "TARGET_BETA_RANGE"]
 
@@ -57,10 +57,19 @@ def folded_configuration(instrument: str | InstrumentGeometry = "sdss-v-apo") ->
     numpy.ndarray
         ``(N, 2)`` float array, degrees, rows in the calibration table's order.
 
+    Raises
+    ------
+    InputError
+        An unknown instrument.
+
     Examples
     --------
     >>> folded_configuration("sdss-v-apo")[:2].tolist()
     [[10.0, 170.0], [10.0, 170.0]]
+
+    References
+    ----------
+    The folded lattice: C. Sayres et al., AJ 161, 92 (2021), and kaiju, as ``docs/instruments.md`` cites it; ``docs/references.md``.
     """
     geom = _geometry(instrument)
     return np.tile(np.asarray(geom.folded_deg, float), (len(geom.hole_ids), 1))
@@ -160,6 +169,10 @@ def random_wok_targets(instrument: str | InstrumentGeometry = "sdss-v-apo", seed
     ((500, 2), True)
     >>> bool(np.array_equal(ab, random_wok_targets("sdss-v-apo", seed=1)))
     True
+
+    References
+    ----------
+    kaiju (``sdss/kaiju``) ``getRandomPathPair``, ``decollideGrid``, as ``docs/instruments.md`` cites it; ``docs/references.md``.
     """
     geom = _geometry(instrument)
     if fibre not in FIBRES:
@@ -216,12 +229,17 @@ def wok_targets(instrument: str | InstrumentGeometry, targets: Mapping[Any, Any]
 
     Examples
     --------
+    >>> from supcoord.instruments import fibre_xy
     >>> g = load_instrument("sdss-v-apo")
     >>> pid = g.positioner_ids[7]
     >>> xy = fibre_xy(g, 7, 40.0, 100.0, "boss")          # where robot 7's BOSS fibre is at (40°, 100°)
     >>> ab = wok_targets(g, {pid: xy.tolist()}, fibre="boss")
     >>> np.round(ab[7], 6).tolist(), ab[0].tolist()
     ([40.0, 100.0], [10.0, 170.0])
+
+    References
+    ----------
+    kaiju (``sdss/kaiju``) ``Robot::alphaBetaFromWokXYZ``, as ``docs/instruments.md`` cites it; ``docs/references.md``.
     """
     geom = _geometry(instrument)
     if form not in ("xy_mm", "alpha_beta_deg"):
@@ -296,11 +314,20 @@ def wok_problem(instrument: str | InstrumentGeometry, start: Any, target: Any, *
         ``{"layout": {"kind": "instrument", ...}, "start": {"alpha_beta_deg": ...}, "target":
         {...}}``: give it to :func:`supcoord.parse_problem`, or write it with :func:`json.dump`.
 
+    Raises
+    ------
+    InputError
+        An unknown instrument, or a start or target that is not ``(N, 2)`` finite angles.
+
     Examples
     --------
     >>> d = wok_problem("sdss-v-apo", folded_configuration(), random_wok_targets(seed=2))
     >>> d["layout"], len(d["target"]["alpha_beta_deg"])
     ({'kind': 'instrument', 'name': 'sdss-v-apo'}, 500)
+
+    References
+    ----------
+    The PROBLEM.json format with instrument layouts: ``docs/formats.md``, ``docs/instruments.md``.
     """
     geom = _geometry(instrument)
     n = len(geom.hole_ids)

@@ -1,11 +1,11 @@
 """Consistency checks of a :class:`Problem` and a :class:`Plan` at the library's boundary.
 
-A ``Problem`` is validated when it is parsed, but it is a plain object: a user may replace
-``problem.target`` by a float array, a list or ``None`` afterwards, or set ``kinematics``
-to ``None``.  Its arrays (``bases``, ``buffers``, ``start``, ``target``) are read-only
-(``Problem.__post_init__``), so they cannot be changed in place; :func:`check_problem`, called where
-a public function takes a problem (``solve``, ``validate_plan``, ``plan_from_moves``, the
-figures), catches a replaced field before it reaches the planner, where it could raise a
+A ``Problem`` is validated when it is parsed, and it is immutable: assigning a field raises
+and its arrays (``bases``, ``buffers``, ``start``, ``target``) are read-only.  But a user may
+build one with ``Problem(...)`` or :func:`dataclasses.replace` whose ``target`` is a float
+array, a list or ``None``, or whose ``kinematics`` is ``None``; :func:`check_problem`, called
+where a public function takes a problem (``solve``, ``validate_plan``, ``plan_from_moves``,
+the figures), catches such a field before it reaches the planner, where it could raise a
 raw ``IndexError`` or loop forever.  :func:`plan_defects` lists what is malformed in a
 ``Plan`` (fields of the wrong type, configurations that are not integer arrays of the
 problem's shape), for ``validate_plan`` to report instead of raising, and
@@ -49,6 +49,13 @@ def check_problem(problem: Any, where: str = "problem") -> None:
     if not isinstance(problem, Problem):
         raise InputError(f"{where}: needs a Problem (supcoord.load_problem, random_problem, preset_problem), got "
                          f"{type(problem).__name__}", value=type(problem).__name__)
+    n, steps = _check_robots(problem, where)
+    _check_positions(problem, n, steps, where)
+    _check_surroundings(problem, n, where)
+
+
+def _check_robots(problem: Problem, where: str) -> tuple[int, list[int]]:
+    """Kinematics, bases, per-robot kinematics and buffers; the robots and the joints' steps."""
     kin = problem.kinematics
     if not isinstance(kin, Kinematics):
         raise InputError(f"{where}.kinematics must be a Kinematics, got {_short(kin)}", value=kin)
@@ -62,6 +69,11 @@ def check_problem(problem: Any, where: str = "problem") -> None:
     buffers = _finite_array(problem.buffers, (n,), "buffers", where)
     if np.any(buffers < 0):
         raise InputError(f"{where}.buffers holds a negative buffer", value=None)
+    return n, steps
+
+
+def _check_positions(problem: Problem, n: int, steps: list[int], where: str) -> None:
+    """Start and target on the lattice, one priority per robot."""
     for name in ("start", "target"):
         q = getattr(problem, name)
         if not isinstance(q, np.ndarray) or q.dtype.kind not in "iu" or q.shape != (n, len(steps)):
@@ -74,6 +86,10 @@ def check_problem(problem: Any, where: str = "problem") -> None:
             _is_int(v) for v in problem.priority):
         raise InputError(f"{where}.priority must be a list of {n} integers, got {_short(problem.priority)}",
                          value=problem.priority)
+
+
+def _check_surroundings(problem: Problem, n: int, where: str) -> None:
+    """Obstacles and their buffers, margins, the layout, robots held and under joint rules."""
     obstacles = _finite_array(problem.obstacles, (None, 2, 2), "obstacles", where)
     _finite_array(problem.obstacle_buffers, (len(obstacles),), "obstacle_buffers", where)
     for name in ("margin", "obstacle_margin"):
@@ -116,22 +132,28 @@ def plan_defects(plan: Any, n: int | None = None, joints: int | None = None) -> 
     shape = None if n is None or joints is None else (n, joints)
     for name, kinds in (("configurations", "iu"), ("angles_deg", "fiu")):
         for k, c in enumerate(getattr(plan, name)):
-            try:
-                a = np.asarray(c)
-            except (ValueError, TypeError, OverflowError) as exc:
-                out.append(f"plan.{name}[{k}] is not an array ({type(exc).__name__})")
-                break
-            integral = a.dtype.kind in "iu" or (a.dtype.kind == "f" and a.size and np.all(np.isfinite(a))
-                                                and np.all(a == np.round(a)) and np.all(np.abs(a) < 2**62))
-            if (kinds == "iu" and not integral) or (kinds != "iu" and a.dtype.kind not in kinds):
-                out.append(f"plan.{name}[{k}] must hold {'integer positions' if kinds == 'iu' else 'numbers'}, "
-                           f"got {_short(c)}")
-                break
-            if shape is not None and a.shape != shape:
-                out.append(f"plan.{name}[{k}] has shape {list(a.shape)}, not {list(shape)} ({n} positioners, "
-                           f"{joints} joints): a plan for another problem?")
+            defect = _array_defect(f"plan.{name}[{k}]", c, kinds, shape)
+            if defect is not None:
+                out.append(defect)
                 break
     return out
+
+
+def _array_defect(name: str, value: Any, kinds: str, shape: tuple[int, int] | None) -> str | None:
+    """What is wrong with one configuration (``kinds`` ``"iu"``: integer positions, integral
+    floats accepted) or pose (``"fiu"``: numbers) of a plan, or None."""
+    try:
+        a = np.asarray(value)
+    except (ValueError, TypeError, OverflowError) as exc:
+        return f"{name} is not an array ({type(exc).__name__})"
+    integral = a.dtype.kind in "iu" or (a.dtype.kind == "f" and a.size and np.all(np.isfinite(a))
+                                        and np.all(a == np.round(a)) and np.all(np.abs(a) < 2**62))
+    if (kinds == "iu" and not integral) or (kinds != "iu" and a.dtype.kind not in kinds):
+        return f"{name} must hold {'integer positions' if kinds == 'iu' else 'numbers'}, got {_short(value)}"
+    if shape is not None and a.shape != shape:
+        return (f"{name} has shape {list(a.shape)}, not {list(shape)} ({shape[0]} positioners, {shape[1]} joints): "
+                f"a plan for another problem?")
+    return None
 
 
 def check_plan(plan: Any, problem: Any, where: str = "plan") -> None:

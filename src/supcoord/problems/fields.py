@@ -1,8 +1,11 @@
-"""PROBLEM.json's fields, one reader each: buffers, margin, obstacles, priority, presets.
+"""PROBLEM.json's fields: which the format knows, and one reader for each plain field.
 
-Part of :mod:`.problem` (see its docstring), kept apart only for size.  Every reader raises
-a one-line :class:`~supcoord.errors.FormatError` or :class:`~supcoord.errors.InputError`
-naming the field and the value; :func:`_unknown_fields` turns typos into warnings.
+The readers of ``collision`` (buffers, margins), ``layout.obstacles``, ``priority`` and
+``preset`` turn decoded JSON into numbers and arrays; they know nothing of a
+:class:`~supcoord.problems.problem.Problem`, which :func:`~supcoord.problems.problem.parse_problem`
+builds from what they return.  Every reader raises a one-line
+:class:`~supcoord.errors.FormatError` or :class:`~supcoord.errors.InputError` naming the
+field and the value; :func:`unknown_fields` turns typos into warnings.
 """
 
 from __future__ import annotations
@@ -12,11 +15,13 @@ from typing import Any
 import numpy as np
 
 from ..errors import FormatError, InputError
-from ..geometry.instruments import PRESETS
+from ..geometry.presets_table import PRESETS
 from ..geometry.kinematics import _is_int
 from ..geometry.layout import _finite_number, _short
-from ..geometry.segments import segment_distance
 from .instrument import LAYOUT_FIELDS
+
+__all__ = ["KNOWN_FIELDS", "EXTRA_FIELDS", "MAX_OBSTACLES", "apply_preset", "read_buffers", "read_margin",
+           "read_obstacles", "read_priority", "unknown_fields"]
 
 #: most fixed obstacles a layout may list
 MAX_OBSTACLES = 100_000
@@ -34,30 +39,7 @@ KNOWN_FIELDS = {
 }
 
 
-
-def _check_fixed(problem: Any, name: str, conf: np.ndarray, where: str | None) -> None:
-    """A start or target touching an obstacle or breaking a joint rule: one line naming both
-    (``problem``: the :class:`~.problem.Problem` being read)."""
-    for p, (U, _) in problem.unary().items():
-        if p in problem.held or not U[int(problem.kin(p).flat_index(conf[p]))]:
-            continue
-        seg = problem.kin(p).segments(conf[p].astype(float)) + problem.bases[p]
-        if len(problem.obstacles):
-            d = segment_distance(np.broadcast_to(seg[0], (len(problem.obstacles), 2)),
-                                 np.broadcast_to(seg[1], (len(problem.obstacles), 2)),
-                                 problem.obstacles[:, 0], problem.obstacles[:, 1])
-            gap = d - problem.buffers[p] - problem.obstacle_buffers
-            o = int(np.argmin(gap))
-            if gap[o] < 0:
-                raise InputError(f"{name}: robot {p} is {d[o]:.3f} mm from obstacle {o}, less than their buffers' sum "
-                                 f"{problem.buffers[p] + problem.obstacle_buffers[o]:.3f} mm", value=[p, o], where=where)
-        a, b = problem.angles_deg(conf)[p]
-        raise InputError(f"{name}: robot {p} at alpha {a:.3f}, beta {b:.3f} deg breaks the instrument's joint rule "
-                         f"(beta < {problem.joint_rules[p][0]:g} + {problem.joint_rules[p][1]:g}·alpha is refused)",
-                         value=[p, a, b], where=where)
-
-
-def _obstacles(layout: dict, where: str | None) -> tuple[np.ndarray, np.ndarray]:
+def read_obstacles(layout: dict, where: str | None) -> tuple[np.ndarray, np.ndarray]:
     """``layout.obstacles``: ``[{"xy": [x, y], "buffer": r} | {"segment": [[x, y], [x, y]], "buffer": r}, ...]``."""
     spec = layout.get("obstacles", [])
     if not isinstance(spec, list) or len(spec) > MAX_OBSTACLES:
@@ -81,7 +63,8 @@ def _obstacles(layout: dict, where: str | None) -> tuple[np.ndarray, np.ndarray]
     return np.array(segs, float).reshape(-1, 2, 2), np.array(bufs, float)
 
 
-def _buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
+def read_buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
+    """``collision.buffer`` (mm): one number for every robot, or one per robot ``(N,)``."""
     if not isinstance(spec, dict) or "buffer" not in spec:
         raise FormatError(f"collision must be an object with a 'buffer' (mm), got {_short(spec)}", value=spec, where=where)
     buf = spec["buffer"]
@@ -98,7 +81,7 @@ def _buffers(spec: Any, n: int, where: str | None) -> np.ndarray:
     return np.broadcast_to(np.asarray(values, float), (n,)).copy()
 
 
-def _margin(spec: Any, where: str | None, name: str = "margin", default: float = 0.0) -> float:
+def read_margin(spec: Any, where: str | None, name: str = "margin", default: float = 0.0) -> float:
     """``collision.margin`` (mm, default 0): clearance asked for on top of the buffers;
     ``name="obstacle_margin"``: the same between robots and fixed obstacles (default: ``margin``)."""
     m = spec.get(name, default) if isinstance(spec, dict) else default
@@ -107,7 +90,8 @@ def _margin(spec: Any, where: str | None, name: str = "margin", default: float =
     return float(m)
 
 
-def _priority(value: Any, n: int, where: str | None) -> list[int]:
+def read_priority(value: Any, n: int, where: str | None) -> list[int]:
+    """``priority``: one integer per robot, smaller first (default: the layout's order)."""
     if value is None:
         return list(range(1, n + 1))
     if not isinstance(value, list) or len(value) != n:
@@ -120,7 +104,7 @@ def _priority(value: Any, n: int, where: str | None) -> list[int]:
     return [int(v) for v in value]
 
 
-def _apply_preset(data: dict, where: str | None) -> dict:
+def apply_preset(data: dict, where: str | None) -> dict:
     """``data`` with the preset's numbers filled in where the file leaves them out (module docstring)."""
     if "preset" not in data:
         return data
@@ -149,7 +133,7 @@ def _apply_preset(data: dict, where: str | None) -> dict:
     return out
 
 
-def _unknown_fields(data: dict, where: str | None) -> list[str]:
+def unknown_fields(data: dict, where: str | None) -> list[str]:
     """One warning per field that :data:`KNOWN_FIELDS` does not list (``_comment`` keys excepted)."""
     prefix = f"{where}: " if where else ""
     objects = [("", data)]

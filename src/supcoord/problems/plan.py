@@ -179,7 +179,36 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
     status = data.get("status")
     if status not in STATUSES:
         raise FormatError(f"plan status must be one of {list(STATUSES)}, got {_short(status)}", value=status, where=where)
-    confs = data.get("configurations", [])
+    out = _configurations(data.get("configurations", []), problem, where)
+    ints = {}
+    for key in ("makespan", "lower_bound"):
+        v = data.get(key)
+        if v is not None and not _is_int(v):
+            raise FormatError(f"{key} must be an integer or null, got {_short(v)}", value=v, where=where)
+        ints[key] = v
+    events = data.get("events", [])
+    if not isinstance(events, list) or not all(isinstance(e, str) for e in events):
+        raise FormatError(f"events must be a list of strings, got {_short(events)}", value=events, where=where)
+    reason = data.get("reason", "")
+    if not isinstance(reason, str):
+        raise FormatError(f"reason must be a string, got {_short(reason)}", value=reason, where=where)
+    stats = data.get("stats", {})
+    if not isinstance(stats, dict):
+        raise FormatError(f"stats must be an object, got {_short(stats)}", value=stats, where=where)
+    angles, trajectories, motion = parse_motion_fields(data, problem, len(out), MAX_PLAN_POSITIONS, where)
+    lattice = data.get("lattice")
+    n_joints = problem.kinematics.n_joints
+    if lattice is not None and not (isinstance(lattice, list) and len(lattice) == n_joints
+                                    and all(_is_int(s) and 2 <= s <= MAX_POSITIONS for s in lattice)):
+        raise FormatError(f"lattice must list {n_joints} numbers of positions in [2, {MAX_POSITIONS}], got "
+                          f"{_short(lattice)}", value=lattice, where=where)
+    return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
+                motion, None if lattice is None else tuple(int(s) for s in lattice))
+
+
+def _configurations(confs: Any, problem: Problem, where: str | None) -> list[np.ndarray]:
+    """PLAN.json's ``configurations``: lists of ``problem.n`` positions (an index per joint;
+    a rotary one a plain integer), as ``(N, J)`` int arrays."""
     if not isinstance(confs, list):
         raise FormatError(f"configurations must be a list, got {_short(confs)}", value=confs, where=where)
     kin, n = problem.kinematics, problem.n
@@ -200,29 +229,7 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
                                   value=v, where=where)
             rows.append(q)
         out.append(np.array(rows, dtype=np.int64).reshape(n, kin.n_joints))
-    ints = {}
-    for key in ("makespan", "lower_bound"):
-        v = data.get(key)
-        if v is not None and not _is_int(v):
-            raise FormatError(f"{key} must be an integer or null, got {_short(v)}", value=v, where=where)
-        ints[key] = v
-    events = data.get("events", [])
-    if not isinstance(events, list) or not all(isinstance(e, str) for e in events):
-        raise FormatError(f"events must be a list of strings, got {_short(events)}", value=events, where=where)
-    reason = data.get("reason", "")
-    if not isinstance(reason, str):
-        raise FormatError(f"reason must be a string, got {_short(reason)}", value=reason, where=where)
-    stats = data.get("stats", {})
-    if not isinstance(stats, dict):
-        raise FormatError(f"stats must be an object, got {_short(stats)}", value=stats, where=where)
-    angles, trajectories, motion = parse_motion_fields(data, problem, len(out), MAX_PLAN_POSITIONS, where)
-    lattice = data.get("lattice")
-    if lattice is not None and not (isinstance(lattice, list) and len(lattice) == kin.n_joints
-                                    and all(_is_int(s) and 2 <= s <= MAX_POSITIONS for s in lattice)):
-        raise FormatError(f"lattice must list {kin.n_joints} numbers of positions in [2, {MAX_POSITIONS}], got "
-                          f"{_short(lattice)}", value=lattice, where=where)
-    return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
-                motion, None if lattice is None else tuple(int(s) for s in lattice))
+    return out
 
 
 def checked_step(kin: Kinematics, q: Any, k: int, move: Move) -> np.ndarray:
@@ -244,8 +251,8 @@ def reversed_moves(moves: Sequence[Move]) -> list[Move]:
 
 def exchanged(problem: Problem) -> Problem:
     """``problem`` with start and target exchanged (the same tables and guards)."""
-    back = copy.copy(problem)
-    back.start, back.target = problem.target.copy(), problem.start.copy()
+    back = copy.copy(problem)  # shares the tables and every cache: none depends on start or target
+    back.__dict__.update(start=problem.target, target=problem.start)  # a Problem refuses assignment
     return back
 
 

@@ -14,17 +14,21 @@ does not know (a typo such as ``"prority"``) is not an error but is reported in
 :attr:`Problem.warnings`, which the command line prints on standard error.
 
 An optional top-level ``"preset"`` (``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``;
-:mod:`supcoord.geometry.instruments`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
+:mod:`supcoord.geometry.presets_table`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
 ``kinematics.kind`` (``alpha-beta``), ``alpha``, ``beta``, ``beta_range``, and
 ``collision.buffer``; values given in the file win.  The discretisation
 (``alpha_steps``, ``beta_steps``) is never implied, since it gives the positions their
 meaning.
+
+A :class:`Problem` is immutable once built: assigning an attribute raises
+:class:`dataclasses.FrozenInstanceError` and its arrays are read-only, so nothing changes
+it behind its caches; :func:`dataclasses.replace` makes a changed copy.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import FrozenInstanceError, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -38,12 +42,13 @@ from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tab
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
 from ..instruments import CollisionDefinition
 from ..geometry.layout import _short, layout_from_spec
+from ..geometry.segments import segment_distance
+from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, apply_preset, read_buffers, read_margin, read_obstacles,
+                     read_priority, unknown_fields)
 from .instrument import definition_kept, instrument_collision, instrument_setup, problem_fibre
-from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, _apply_preset, _buffers, _check_fixed, _margin, _obstacles, _priority,
-                     _unknown_fields)
 from .targets import parse_offline, parse_positions, radian_warnings, robot_lattices, with_angles
 from .json_input import read_json
-from .unlock import unlock_lattices
+from .unlock import unlock_lattices, with_lattices
 
 __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
            "KNOWN_FIELDS"]
@@ -52,9 +57,16 @@ __all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIO
 MAX_POSITIONERS = 20_000
 #: largest PROBLEM.json read (bytes): 20,000 positioners with every field take about 2 MB
 MAX_PROBLEM_BYTES = 64 * 2**20
+
+
 @dataclass(eq=False)
 class Problem:
-    """A validated coordination problem; positions are ``(N, J)`` int arrays."""
+    """A validated coordination problem; positions are ``(N, J)`` int arrays.
+
+    Immutable once built (module docstring): the dataclass's ``__init__`` sets the fields,
+    after which an assignment raises; the lazily computed tables are kept by the methods
+    that compute them.
+    """
 
     layout: dict
     kinematics: Kinematics
@@ -99,6 +111,21 @@ class Problem:
                 value = value.copy()
                 value.setflags(write=False)
                 setattr(self, name, value)
+        object.__setattr__(self, "_frozen", True)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if self.__dict__.get("_frozen", False):
+            raise FrozenInstanceError(f"a Problem is immutable: cannot set {name!r} (dataclasses.replace makes a "
+                                      f"changed copy)")
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name: str) -> None:
+        raise FrozenInstanceError(f"a Problem is immutable: cannot delete {name!r}")
+
+    def _keep(self, name: str, value: Any) -> Any:
+        """Store the lazily computed cache ``name`` (``_pairs``, ``_tables``, ``_unary``) and return it."""
+        object.__setattr__(self, name, value)
+        return value
 
     @property
     def n(self) -> int:
@@ -179,7 +206,7 @@ class Problem:
     def pairs(self) -> np.ndarray:
         """Neighbour pairs ``(a, b)``, ``a < b`` (:func:`~supcoord.geometry.collision.neighbour_pairs`)."""
         if self._pairs is None:
-            self._pairs = neighbour_pairs(self.bases, self.reaches, self.buffers)
+            return self._keep("_pairs", neighbour_pairs(self.bases, self.reaches, self.buffers))
         return self._pairs
 
     def tables(self) -> CollisionTables:
@@ -187,8 +214,8 @@ class Problem:
         offset between pairs of identical robots, with every robot's :meth:`unary` tables
         folded in."""
         if self._tables is None:
-            self._tables = CollisionTables(self.kinematics, self.bases, self.buffers, kins=self.robot_kinematics,
-                                           unary=self.unary())
+            return self._keep("_tables", CollisionTables(self.kinematics, self.bases, self.buffers,
+                                                         kins=self.robot_kinematics, unary=self.unary()))
         return self._tables
 
     def unary(self) -> dict[int, tuple[np.ndarray, np.ndarray]]:
@@ -201,7 +228,7 @@ class Problem:
                 t = self.own_tables(p, self.kin(p))
                 if t is not None:
                     out[p] = t
-            self._unary = out
+            return self._keep("_unary", out)
         return self._unary
 
     def own_tables(self, p: int, kin: Kinematics) -> tuple[np.ndarray, np.ndarray] | None:
@@ -310,8 +337,51 @@ def load_problem(path: str | Path, check_collisions: bool = True) -> Problem:
 
 
 def parse_problem(data: Any, where: str | None = None, check_collisions: bool = True) -> Problem:
-    """Validate a PROBLEM.json object (already decoded) into a :class:`Problem`; an error about
-    angles that look like radians says so (:func:`~.targets.radian_warnings`)."""
+    """Validate a decoded PROBLEM.json object into a :class:`Problem`.
+
+    Parameters
+    ----------
+    data : dict
+        The decoded PROBLEM.json (``docs/formats.md``): ``layout`` (bases in mm),
+        ``kinematics`` (arm lengths in mm, lattice steps), ``collision`` (buffers and margins
+        in mm), ``start`` and ``target`` (lattice indices, joint angles in degrees or fibre
+        positions in mm), and the optional ``priority``, ``offline``, ``fibre``, ``preset``.
+    where : str, optional
+        Where the data came from (a file name), named by every error.
+    check_collisions : bool, default True
+        Refuse a start or target whose robots collide with each other, a fixed obstacle or
+        a joint rule.
+
+    Returns
+    -------
+    Problem
+        The problem, immutable; fields the format does not know are listed in its
+        ``warnings``.
+
+    Raises
+    ------
+    FormatError
+        A field of the wrong type or shape.
+    InputError
+        A value out of range or a colliding start or target; an error about angles that
+        look like radians says so (:func:`~.targets.radian_warnings`).
+
+    Examples
+    --------
+    >>> p = parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [0] * 7, "target": [6] * 7})
+    >>> p.n, p.kinematics.shape, float(p.buffers[0])
+    (7, (12,), 2.0)
+    >>> parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4}})
+    Traceback (most recent call last):
+    ...
+    supcoord.errors.FormatError: required field 'kinematics' is missing
+
+    References
+    ----------
+    The PROBLEM.json format: ``docs/formats.md``.
+    """
     try:
         return _parse_problem(data, where, check_collisions)
     except InputError as exc:
@@ -324,7 +394,7 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
 def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Problem:
     if not isinstance(data, dict):
         raise FormatError(f"a problem must be a JSON object, got {_short(data)}", value=data, where=where)
-    data = _apply_preset(data, where)
+    data = apply_preset(data, where)
     layout_spec = data.get("layout")
     instrument = isinstance(layout_spec, dict) and layout_spec.get("kind") == "instrument"
     for key in ("layout", "start", "target") if instrument else ("layout", "kinematics", "collision", "start", "target"):
@@ -339,13 +409,41 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
     if n > MAX_POSITIONERS:
         raise InputError(f"layout has {n} positioners, more than the supported {MAX_POSITIONERS}", value=n, where=where)
     kin = setup.kinematics if setup else kinematics_from_spec(data["kinematics"], where)
-    base_kins = setup.robots if setup else None
     collision = data.get("collision", {} if setup else None)
     if setup and isinstance(collision, dict):  # the instrument's own definition where the file is silent
         collision = instrument_collision(setup, collision)
-    buffers = _buffers(collision, n, where)
-    margin = _margin(collision, where)
-    obstacle_margin = _margin(collision, where, "obstacle_margin", margin)
+    buffers = read_buffers(collision, n, where)
+    margin = read_margin(collision, where)
+    obstacle_margin = read_margin(collision, where, "obstacle_margin", margin)
+    start, target, held, robot_kins = _positions(data, kin, bases, setup.robots if setup else None, where)
+    if setup:
+        obstacles, obstacle_buffers = setup.obstacles, setup.obstacle_buffers
+    else:
+        obstacles, obstacle_buffers = read_obstacles(layout_spec, where)
+    priority = read_priority(data.get("priority"), n, where)
+    layout = setup.layout if setup else _layout_json(layout_spec, bases, obstacles, obstacle_buffers)
+    extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
+    problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
+                      unknown_fields(data, where) + radian_warnings(data, where), robot_kinematics=robot_kins,
+                      margin=margin,
+                      obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
+                      obstacle_margin=obstacle_margin,
+                      held={p: tuple(int(v) for v in start[p]) for p in held},
+                      joint_rules=setup.joint_rules if setup else {},
+                      collision_definition=definition_kept(setup, buffers, margin, obstacle_margin) if setup else None)
+    # robots their obstacles would lock in on a coarse lattice get a finer one (.unlock)
+    problem = with_lattices(problem, unlock_lattices(problem))
+    if check_collisions:
+        for name, conf in (("start", problem.start), ("target", problem.target)):
+            _check_free(problem, name, conf, where)
+    return problem
+
+
+def _positions(data: dict, kin: Kinematics, bases: np.ndarray, base_kins: list[Kinematics] | None,
+               where: str | None) -> tuple[np.ndarray, np.ndarray, dict, list[Kinematics] | None]:
+    """``start``, ``target`` (positions ``(N, J)``), the offline robots and the robots' own
+    kinematics (lattices holding exact angles where the file gives angles)."""
+    n = len(bases)
     start = parse_positions(data["start"], "start", n, kin, bases, where, base_kins)
     target = parse_positions(data["target"], "target", n, kin, bases, where, base_kins)
     held = parse_offline(data.get("offline"), n, kin, where, base_kins)
@@ -357,41 +455,51 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
             robot_kins, start, target = robot_lattices(kin, start, target, base_kins)  # type: ignore[arg-type]
         except InputError as exc:
             raise InputError(exc.message, value=exc.value, where=where) from None
-    if setup:
-        obstacles, obstacle_buffers = setup.obstacles, setup.obstacle_buffers
-    else:
-        obstacles, obstacle_buffers = _obstacles(layout_spec, where)
-    priority = _priority(data.get("priority"), n, where)
-    if setup:
-        layout = setup.layout
-    elif layout_spec.get("kind") == "points":
-        layout = {"kind": "points", "xy": bases.tolist()}
-        if len(obstacles):
-            layout["obstacles"] = [{"xy": o[0].tolist(), "buffer": float(r)} if np.array_equal(o[0], o[1]) else
-                                   {"segment": o.tolist(), "buffer": float(r)} for o, r in zip(obstacles, obstacle_buffers)]
-    else:
-        layout = {"kind": "hex", "rings": int(layout_spec["rings"]), "pitch": float(layout_spec["pitch"])}
-    extra = {k: v for k, v in data.items() if k in EXTRA_FIELDS}
-    problem = Problem(layout, kin, bases, buffers + margin / 2, start, target, priority, where, extra,
-                      _unknown_fields(data, where) + radian_warnings(data, where), robot_kinematics=robot_kins,
-                      margin=margin,
-                      obstacles=obstacles, obstacle_buffers=obstacle_buffers + (obstacle_margin - margin / 2),
-                      obstacle_margin=obstacle_margin,
-                      held={p: tuple(int(v) for v in start[p]) for p in held},
-                      joint_rules=setup.joint_rules if setup else {},
-                      collision_definition=definition_kept(setup, buffers, margin, obstacle_margin) if setup else None)
-    unlock_lattices(problem)  # robots their obstacles would lock in on a coarse lattice
-    start, target = problem.start, problem.target
-    if check_collisions:
-        for name, conf in (("start", start), ("target", target)):
-            hits = problem.collisions(conf)
-            if hits:
-                a, b, d = hits[0]
-                more = f" (and {len(hits) - 1} more colliding pairs)" if len(hits) > 1 else ""
-                raise InputError(
-                    f"{name} configuration collides: positioners {a} and {b} are {d:.3f} mm apart, "
-                    f"less than their buffers' sum {problem.buffers[a] + problem.buffers[b]:.3f} mm{more}",
-                    value=[a, b], where=where)
-            _check_fixed(problem, name, conf, where)
-    return problem
+    return start, target, held, robot_kins
 
+
+def _layout_json(layout_spec: dict, bases: np.ndarray, obstacles: np.ndarray, obstacle_buffers: np.ndarray) -> dict:
+    """PROBLEM.json's ``layout`` as the problem keeps it: a hex grid's numbers, or the points
+    and their obstacles."""
+    if layout_spec.get("kind") != "points":
+        return {"kind": "hex", "rings": int(layout_spec["rings"]), "pitch": float(layout_spec["pitch"])}
+    layout: dict[str, Any] = {"kind": "points", "xy": bases.tolist()}
+    if len(obstacles):
+        layout["obstacles"] = [{"xy": o[0].tolist(), "buffer": float(r)} if np.array_equal(o[0], o[1]) else
+                               {"segment": o.tolist(), "buffer": float(r)} for o, r in zip(obstacles, obstacle_buffers)]
+    return layout
+
+
+def _check_free(problem: Problem, name: str, conf: np.ndarray, where: str | None) -> None:
+    """A start or target where robots collide, touch an obstacle or break a joint rule: one
+    line naming them."""
+    hits = problem.collisions(conf)
+    if hits:
+        a, b, d = hits[0]
+        more = f" (and {len(hits) - 1} more colliding pairs)" if len(hits) > 1 else ""
+        raise InputError(
+            f"{name} configuration collides: positioners {a} and {b} are {d:.3f} mm apart, "
+            f"less than their buffers' sum {problem.buffers[a] + problem.buffers[b]:.3f} mm{more}",
+            value=[a, b], where=where)
+    _check_fixed(problem, name, conf, where)
+
+
+def _check_fixed(problem: Problem, name: str, conf: np.ndarray, where: str | None) -> None:
+    """A start or target touching an obstacle or breaking a joint rule: one line naming both."""
+    for p, (U, _) in problem.unary().items():
+        if p in problem.held or not U[int(problem.kin(p).flat_index(conf[p]))]:
+            continue
+        seg = problem.kin(p).segments(conf[p].astype(float)) + problem.bases[p]
+        if len(problem.obstacles):
+            d = segment_distance(np.broadcast_to(seg[0], (len(problem.obstacles), 2)),
+                                 np.broadcast_to(seg[1], (len(problem.obstacles), 2)),
+                                 problem.obstacles[:, 0], problem.obstacles[:, 1])
+            gap = d - problem.buffers[p] - problem.obstacle_buffers
+            o = int(np.argmin(gap))
+            if gap[o] < 0:
+                raise InputError(f"{name}: robot {p} is {d[o]:.3f} mm from obstacle {o}, less than their buffers' sum "
+                                 f"{problem.buffers[p] + problem.obstacle_buffers[o]:.3f} mm", value=[p, o], where=where)
+        a, b = problem.angles_deg(conf)[p]
+        raise InputError(f"{name}: robot {p} at alpha {a:.3f}, beta {b:.3f} deg breaks the instrument's joint rule "
+                         f"(beta < {problem.joint_rules[p][0]:g} + {problem.joint_rules[p][1]:g}·alpha is refused)",
+                         value=[p, a, b], where=where)

@@ -27,6 +27,7 @@ file, so ``supcoord check`` reads plans on the same lattices as ``supcoord solve
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -36,7 +37,7 @@ from scipy.sparse.csgraph import breadth_first_order, dijkstra
 from ..geometry.alpha_beta import AlphaBeta
 from ..geometry.joint_space import MAX_POSITIONS
 
-__all__ = ["unlock_lattices", "lattice_holding", "alone_reachable", "corner_angles", "FINE_POSITIONS"]
+__all__ = ["unlock_lattices", "with_lattices", "LatticeChange", "lattice_holding", "alone_reachable", "corner_angles", "FINE_POSITIONS"]
 
 #: positions of the fine lattice a locked-in robot's path is searched on (one robot's
 #: obstacle tables only: a few milliseconds)
@@ -175,14 +176,26 @@ def _with_row(rows: np.ndarray, p: int, value: Any) -> np.ndarray:
     return out
 
 
-def unlock_lattices(problem: Any) -> list[int]:
-    """Rebuild the lattice of every robot that cannot reach its target alone on its own
-    lattice but can on a fine one (module docstring); returns the robots changed (the
-    :class:`~supcoord.problems.problem.Problem`, which calls this, is changed in place: its kinematics, start and target indices, caches)."""
+@dataclass(frozen=True)
+class LatticeChange:
+    """One robot's rebuilt lattice (:func:`unlock_lattices`): its kinematics, its start and
+    target positions on it, and the warning that tells the user."""
+
+    robot: int
+    kinematics: AlphaBeta
+    start: np.ndarray
+    target: np.ndarray
+    warning: str
+
+
+def unlock_lattices(problem: Any) -> list[LatticeChange]:
+    """The rebuilt lattice of every robot that cannot reach its target alone on its own
+    lattice but can on a fine one (module docstring); ``problem`` is left as it is
+    (:func:`with_lattices` makes the problem with the changes)."""
     kins = problem.robot_kinematics
     if kins is None or not (len(problem.obstacles) or problem.joint_rules):
         return []
-    changed = []
+    changed: list[LatticeChange] = []
     for p, tables in sorted(problem.unary().items()):
         kin = kins[p]
         if p in problem.held or not isinstance(kin, AlphaBeta):
@@ -208,14 +221,23 @@ def unlock_lattices(problem: Any) -> list[int]:
         new_tables = problem.own_tables(p, new)
         if new_tables is None or not alone_reachable(new, new_tables, s_new, t_new):
             continue
-        kins[p] = new
-        problem.start, problem.target = (_with_row(a, p, v) for a, v in ((problem.start, s_new),
-                                                                          (problem.target, t_new)))
-        changed.append(p)
         added = ", ".join(f"{name} {v:g}" for name, vals in zip(("alpha", "beta"), need) for v in sorted(set(vals))
                           if v not in kin.lattice_deg(0 if name == "alpha" else 1))
-        problem.warnings.append(f"robot {p}: its obstacles leave it no path on its lattice; the lattice now also holds "
-                                f"{added} deg (a path around them)")
-    if changed:
-        problem._unary = problem._tables = problem._pairs = None
+        changed.append(LatticeChange(p, new, s_new, t_new, f"robot {p}: its obstacles leave it no path on its lattice; "
+                                     f"the lattice now also holds {added} deg (a path around them)"))
     return changed
+
+
+def with_lattices(problem: Any, changes: list[LatticeChange]) -> Any:
+    """``problem`` with the rebuilt lattices ``changes`` (:func:`unlock_lattices`): a new
+    :class:`~supcoord.problems.problem.Problem` (robots' kinematics, start and target
+    indices, warnings; its caches computed afresh), or ``problem`` itself when there are none."""
+    if not changes:
+        return problem
+    kins, start, target = list(problem.robot_kinematics), problem.start, problem.target
+    for change in changes:
+        kins[change.robot] = change.kinematics
+        start, target = _with_row(start, change.robot, change.start), _with_row(target, change.robot, change.target)
+    return replace(problem, robot_kinematics=kins, start=start, target=target,
+                   warnings=list(problem.warnings) + [c.warning for c in changes], _tables=None, _pairs=None,
+                   _unary=None)

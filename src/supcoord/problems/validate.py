@@ -31,7 +31,7 @@ neighbour (``dist(S_a(t), S_b(t)) ≥ r_a + r_b``) nor a fixed obstacle
 an offline robot (``problem.held``) never leaves its angles and no robot under a joint rule
 (``problem.joint_rules``) enters its forbidden half-plane ``β < c0 + c1·α``.  A step that
 turns a joint by more than a full turn is checked one turn at a time (the same motion); one
-of more than :data:`MAX_TURNS` turns is reported and not checked.
+of more than :data:`~.validate_motion.MAX_TURNS` turns is reported and not checked.
 
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
@@ -40,7 +40,7 @@ double-precision formulas agree on touching arms.  Each step's time axis is firs
 so that no point of a colliding segment moves more than ``resolution/2`` mm between samples
 (default ``resolution`` = 0.05 mm); then every interval between two samples whose distances
 do not settle it is **bisected**: with ``L`` the pair's travel bound (``d(t)`` is
-``L``-Lipschitz, :mod:`.validate_motion`), the least distance over an interval ``[t0, t1]``
+``L``-Lipschitz, :mod:`.validate_motion`, which holds the validator's geometry), the least distance over an interval ``[t0, t1]``
 is at least ``(d(t0) + d(t1) − L·(t1 − t0))/2``, so an interval is free once that bound
 reaches ``r_a + r_b``, and a sample below it is a collision.  Bisection stops when an
 interval's bound is within :data:`TOLERANCE` (1e-6 mm) of deciding, or when a pair has
@@ -77,6 +77,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
@@ -86,23 +87,17 @@ from .consistency import check_problem, plan_defects
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
-from .validate_motion import (ANGLE_TOL, MAX_OPEN, TOLERANCE, Bodies, _angles_off, _check_angle_poses,
-                              _check_held_and_rules, _ids, _pose_steps, _step_distances, _trajectory_arrays,
-                              _trajectory_poses, _wrapping, segment_distance_ericson)
+from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
-__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "MAX_PROBLEMS", "TOLERANCE",
-           "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
+__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses", "MAX_PROBLEMS",
+           "TOLERANCE", "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
 
-#: most full turns of a joint in one step that the geometric check follows (beyond: reported)
-MAX_TURNS = 100
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
 #: accepted first sampling steps (mm): finer only costs memory, coarser only bisection work
 RESOLUTION_RANGE = (1e-4, 100.0)
-#: depth (mm) of an overlap the validator attributes to rounding: arms that touch at exactly the
-#: buffer sum (round-number layouts) come out 1e-15 mm either side of it in double precision,
-#: differently in the planner's formulas and in these, so a touch is not reported as a collision
-TIE = 1e-9
+#: degrees within which a plan's angles must meet the start, the target and the joint ranges
+ANGLE_TOL = 1e-6
 
 
 def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
@@ -122,6 +117,23 @@ def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
     angle = np.mod(np.arctan2(b * math.sqrt(3) / 2.0, a + b / 2.0), 2 * math.pi)
     angle = np.where(ring == 0, 0.0, np.where(angle > 2 * math.pi - 1e-9, 0.0, angle))
     return xy[np.lexsort((angle, ring))]
+
+
+def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
+    """The bases to check against: rebuilt from a hex layout's numbers, else the given points."""
+    layout = problem.layout
+    if layout.get("kind") != "hex":
+        return np.asarray(layout.get("xy", problem.bases), float).reshape(-1, 2)
+    own = hex_bases_by_angle(int(layout["rings"]), float(layout["pitch"]))
+    if own.shape != problem.bases.shape:
+        problems.append(f"layout: {len(problem.bases)} bases, but a hex grid of {layout['rings']} rings has {len(own)}")
+        return problem.bases
+    off = np.nonzero(np.hypot(*(own - problem.bases).T) > 1e-6 * max(1.0, float(layout["pitch"])))[0]
+    if len(off):
+        i = int(off[0])
+        problems.append(f"layout: base of positioner {i} is {problem.bases[i].round(4).tolist()} but the hex "
+                        f"ordering of formats.md puts it at {own[i].round(4).tolist()} ({len(off)} bases differ)")
+    return own
 
 
 def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
@@ -169,17 +181,56 @@ def _check_events(kind: str, events: list[str], start: np.ndarray, last: np.ndar
 
 
 def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dict[str, Any]:
-    """Check ``plan`` against ``problem`` geometrically (module docstring); never raises on a
-    bad plan.  ``resolution`` (mm, within :data:`RESOLUTION_RANGE`) sets the first sampling;
-    the verdict does not depend on it."""
-    if not isinstance(plan, Plan):
-        raise InputError(f"validate_plan needs a Plan, got {type(plan).__name__}", value=None, where="plan")
-    check_problem(problem)  # a Problem, and still consistent
+    """Check a plan against its problem geometrically, independently of the planner.
 
-    lo, hi = RESOLUTION_RANGE
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
-        raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
-                         value=resolution, where="resolution")
+    The rule is the module docstring's: start to target, joints in range, no collision at
+    any time of any step (sampled, then bisected to 1e-6 mm).  A bad plan is reported in
+    the result, never raised.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem the plan claims to solve (lengths in mm, angles in degrees).
+    plan : Plan
+        Configurations (lattice indices), poses (degrees) or trajectories (``[t_s, deg]``).
+    resolution : float, default 0.05
+        First sampling step in mm (within :data:`RESOLUTION_RANGE`): no point of a robot
+        moves farther between samples; the verdict does not depend on it.
+
+    Returns
+    -------
+    dict
+        ``valid`` (bool), ``collisions`` (colliding step and pair incidents), ``at_target``
+        (robots whose last position is their target), ``problems`` (one line each, at most
+        :data:`MAX_PROBLEMS`), ``steps``, ``min_clearance`` (mm, or None), ``incidents``
+        (the first collisions: step, positioners, time ``t`` in [0, 1] of the step,
+        distance and required distance in mm), ``undecided`` and ``undecided_depth`` (mm);
+        ``motion_time_s`` (s) when the plan has trajectories.
+
+    Raises
+    ------
+    InputError
+        ``plan`` is not a :class:`Plan`, ``problem`` not a consistent :class:`Problem`, or
+        ``resolution`` out of range.
+
+    Examples
+    --------
+    >>> from supcoord.problems import parse_problem, Plan
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 8.0, "steps": 4},
+    ...                    "collision": {"buffer": 1.0}, "start": [0, 0], "target": [1, 0]})
+    >>> r = validate_plan(p, Plan("complete", [p.start, p.target]))
+    >>> r["valid"], r["collisions"], r["at_target"], r["steps"]
+    (True, 0, 2, 1)
+    >>> validate_plan(p, Plan("complete", [p.start]))["problems"]
+    ['the last configuration is not the target (positioners 0 are not at target)']
+
+    References
+    ----------
+    C. Ericson, *Real-Time Collision Detection*, 2005, §5.1.9; P. Hansen, B. Jaumard,
+    S.-H. Lu, Global optimization of univariate Lipschitz functions, Math. Prog. 55, 1992.
+    """
+    _check_arguments(problem, plan, resolution)
     problems: list[str] = plan_defects(plan, problem.n, problem.kinematics.n_joints)
     if problems:  # a malformed plan is an invalid one
         return _result(False, 0, 0, problems[:1], 0, None)
@@ -188,128 +239,145 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
             problem = at_lattice(problem, plan.lattice)
         except InputError as exc:
             return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
-    kin = problem.kinematics
-    steps = np.array([j.steps for j in kin.joints])
-    wraps = np.array([j.wraps for j in kin.joints])
-    shape = (problem.n, len(steps))
-    confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
-    poses = [np.asarray(a, dtype=float) for a in plan.angles_deg]
-    trajs = _trajectory_arrays(plan.trajectories, [j.name for j in kin.joints], problem.n)
-    for name, seq in (("configurations", confs), ("angles_deg", poses)):
-        wrong = [k for k, c in enumerate(seq) if c.shape != shape]
-        if wrong:
-            problems.append(f"{name}[{wrong[0]}] has shape {list(seq[wrong[0]].shape)}, not {list(shape)} "
-                            f"({problem.n} positioners, {len(steps)} joints): a plan for another problem?")
-            return _result(False, 0, 0, problems, max(0, len(seq) - 1), None)
-    bad = [k for k, a in enumerate(poses) if not np.all(np.isfinite(a))]
-    if bad:
-        problems.append(f"angles_deg[{bad[0]}] holds an angle that is not a finite number")
-        return _result(False, 0, 0, problems, max(0, len(poses) - 1), None)
-    if trajs is None and plan.trajectories is not None:
-        problems.append(f"trajectories must give each of {problem.n} positioners the joints "
-                        f"{[j.name for j in kin.joints]}, each a non-empty list of [t_s, deg] in increasing time: "
-                        f"a plan for another problem?")
-        return _result(False, 0, 0, problems, 0, None)
-    if plan.status != "complete":
-        problems.append(f"plan status is {plan.status!r}" + (f": {plan.reason}" if plan.reason else ""))
-    if not confs and not poses and trajs is None:
-        problems.append("the plan has no configurations")
-        return _result(False, 0, int(np.sum(np.all(problem.start == problem.target, axis=1))), problems, 0, None)
-    bases = _bases(problem, problems)
-    bodies = Bodies(problem, bases)
-    ia, ib = bodies.pairs()
-    need = bodies.buffers[ia] + bodies.buffers[ib]
-    geo = (bodies, ia, ib, need, resolution)
+    motion = _read_motion(problem, plan, problems)
+    if isinstance(motion, dict):  # refused: the result says why
+        return motion
+    checker = MotionChecker(problem, _bases(problem, problems), resolution, MAX_PROBLEMS)
+    confs, poses, trajs = motion.confs, motion.poses, motion.trajs
     if confs:
-        at_target = int(np.sum(np.all(confs[-1] == problem.target, axis=1)))
-        _check_sequence(problem, plan, kin.kind, confs, steps, wraps, problems)
-        if poses:
-            _check_angles_match(problem, confs, poses, problems)
-        _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs])),
-                              "configurations", problems)
-
-        def step(k: int) -> tuple[np.ndarray, np.ndarray]:
-            a0 = problem.angles_deg(confs[k])
-            if k + 1 >= len(confs):
-                return a0, np.zeros_like(a0)
-            delta = _step_delta(confs[k], confs[k + 1], steps, wraps, k, problems)
-            return a0, problem.angles_deg(confs[k] + delta) - a0
-
-        found = _check_motion(geo, step, len(confs), "configuration 0", problems)
+        at_target, found = _check_configurations(problem, plan, confs, poses, checker, problems)
+        n_steps = len(confs) - 1
     elif poses:
-        at_target = _check_angle_poses(problem, np.stack(poses), "angles_deg", problems)
-        _check_held_and_rules(problem, lambda p: np.array([a[p] for a in poses]), "angles_deg", problems)
-        if plan.makespan is not None and plan.makespan != len(poses) - 1:
-            problems.append(f"makespan is {plan.makespan} but the plan has {len(poses) - 1} steps")
-        short = _wrapping(problem)
-        found = _check_motion(geo, _pose_steps(poses, short), len(poses), "pose 0", problems)
+        at_target, found = _check_poses(problem, plan, poses, checker, problems)
+        n_steps = len(poses) - 1
     if trajs is not None:
-        times, tposes = _trajectory_poses(trajs)
-        label, mine = ("trajectories: ", []) if confs or poses else ("", problems)
-        at = _check_angle_poses(problem, tposes, "trajectories", mine)
-        _check_held_and_rules(problem, lambda p: tposes[:, p], "trajectories", mine)
-        got = _check_motion(geo, _pose_steps(list(tposes), None), len(tposes), "pose 0", mine)
-        if confs or poses:
-            problems.extend(p if p.startswith(label) else label + p for p in mine)
-            found = (found[0] + got[0], min(found[1], got[1]), found[2], (found[3][0] + got[3][0],
-                                                                            max(found[3][1], got[3][1])))
-        else:
-            at_target, found = at, got
-        motion = float(max(float(t[-1, 0]) for robot in trajs for t in robot.values()))
-        if plan.motion_time_s is not None and abs(plan.motion_time_s - motion) > 1e-9 * max(1.0, motion):
-            problems.append(f"motion_time_s is {plan.motion_time_s!r} but the trajectories end at t = {motion!r} s")
-    collisions, clearance, incidents, undecided = found
-    n_steps = len(confs) - 1 if confs else len(poses) - 1 if poses else len(times) - 1
-    result = _result(not problems, collisions, at_target, problems, n_steps, clearance, incidents, undecided)
+        found, end, alone = _check_trajectories(problem, plan, trajs, found if confs or poses else None, checker,
+                                                problems)
+        if alone is not None:
+            at_target, n_steps = alone
+    result = _result(not problems, found.collisions, at_target, problems, n_steps, found.clearance, found.incidents,
+                     (found.undecided, found.depth))
     if trajs is not None:
-        result["motion_time_s"] = motion
+        result["motion_time_s"] = end
     return result
 
 
-def _check_motion(geo: tuple, step: Callable[[int], tuple[np.ndarray, np.ndarray]], count: int, single: str,
-                  problems: list[str]) -> tuple[int, float, list[dict[str, Any]], tuple[int, float]]:
-    """The geometric check of ``count`` poses, ``step(k)`` giving pose ``k``'s angles and the turn
-    to pose ``k + 1``: ``(collisions, least clearance, incidents, (undecided, depth))``."""
-    bodies, ia, ib, need, resolution = geo
-    n = bodies.n
-    collisions = undecided = 0
-    depth = 0.0
-    clearance = math.inf
-    incidents: list[dict[str, Any]] = []
-    for k in range(max(1, count - 1)):
-        a0, turn = step(k)
-        a0, turn = bodies.pad(a0), bodies.pad(turn)
-        where = f"step {k}->{k + 1}" if count > 1 else single
-        # a step turning a joint by more than a turn is checked a turn at a time (the same motion)
-        pieces = max(1, math.ceil(float(np.abs(turn).max(initial=0.0)) / 360.0))
-        if pieces > MAX_TURNS:
-            problems.append(f"{where}: a joint turns by {float(np.abs(turn).max()):.6g} deg, more than {MAX_TURNS} "
-                            f"turns: not checked for collisions")
-            continue
-        dmin, tmin = np.full(len(ia), np.inf), np.zeros(len(ia))
-        for i in range(pieces):
-            part = turn / pieces
-            d, t, (unsure, deep) = _step_distances(bodies, a0 + i * part, part, ia, ib, bodies.travel(part),
-                                                   need - TIE, resolution)
-            tmin = np.where(d < dmin, (i + t) / pieces, tmin)
-            dmin = np.minimum(dmin, d)
-            undecided += unsure
-            depth = max(depth, deep)
-        if len(dmin):
-            clearance = min(clearance, float(np.min(dmin - need)))
-        hits = np.nonzero(dmin < need - TIE)[0]
-        collisions += len(hits)
-        for h in hits:
-            a, b = int(ia[h]), int(ib[h])
-            what = f"positioners {a} and {b} collide" if b < n else f"positioner {a} collides with obstacle {b - n}"
-            problems.append(f"{where}: {what} (distance {dmin[h]:.3f} mm < {need[h]:.3f} mm)")
-            if len(incidents) < MAX_PROBLEMS:
-                inc = {"step": k, "positioners": [a, b] if b < n else [a], "t": float(tmin[h]),
-                       "distance": float(dmin[h]), "required": float(need[h])}
-                if b >= n:
-                    inc["obstacle"] = b - n
-                incidents.append(inc)
-    return collisions, clearance, incidents, (undecided, depth)
+def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:
+    """Raise :class:`InputError` unless a :class:`Plan`, a consistent :class:`Problem` and a
+    resolution in :data:`RESOLUTION_RANGE`."""
+    if not isinstance(plan, Plan):
+        raise InputError(f"validate_plan needs a Plan, got {type(plan).__name__}", value=None, where="plan")
+    check_problem(problem)  # a Problem, and still consistent
+    lo, hi = RESOLUTION_RANGE
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not lo <= resolution <= hi:
+        raise InputError(f"resolution must be a number of mm in [{lo:g}, {hi:g}], got {resolution!r}",
+                         value=resolution, where="resolution")
+
+
+def _check_trajectories(problem: Problem, plan: Plan, trajs: list[dict[str, np.ndarray]],
+                        found: MotionCheck | None, checker: MotionChecker,
+                        problems: list[str]) -> tuple[MotionCheck, float, tuple[int, int] | None]:
+    """The trajectories as a motion: alone (``found`` None), or besides configurations or poses
+    that found ``found`` (their problems then prefixed ``trajectories:``).  Returns what the
+    checks found, the last breakpoint time (s; ``motion_time_s`` must be it) and, alone, the
+    robots at target and the steps."""
+    times, poses = trajectory_poses(trajs)
+    if found is None:
+        at_target, found = _check_trajectory_motion(problem, poses, checker, problems)
+        alone: tuple[int, int] | None = (at_target, len(times) - 1)
+    else:
+        own: list[str] = []
+        found = found.plus(_check_trajectory_motion(problem, poses, checker, own)[1])
+        problems.extend(p if p.startswith("trajectories: ") else "trajectories: " + p for p in own)
+        alone = None
+    end = float(max(float(t[-1, 0]) for robot in trajs for t in robot.values()))
+    if plan.motion_time_s is not None and abs(plan.motion_time_s - end) > 1e-9 * max(1.0, end):
+        problems.append(f"motion_time_s is {plan.motion_time_s!r} but the trajectories end at t = {end!r} s")
+    return found, end, alone
+
+
+@dataclass(frozen=True)
+class _Motion:
+    """A plan's motion as arrays: configurations ``(N, J)`` ints, poses ``(N, J)`` degrees, and
+    per robot ``{joint: (K, 2) [t_s, deg]}`` trajectories (None: none, or not this problem's)."""
+
+    confs: list[np.ndarray]
+    poses: list[np.ndarray]
+    trajs: list[dict[str, np.ndarray]] | None
+
+
+def _read_motion(problem: Problem, plan: Plan, problems: list[str]) -> _Motion | dict[str, Any]:
+    """The plan's motion, or the result for one of the wrong shape or with no pose at all (a
+    plan that is not complete is reported in ``problems`` and still checked)."""
+    motion = _Motion([np.asarray(c, dtype=np.int64) for c in plan.configurations],
+                     [np.asarray(a, dtype=float) for a in plan.angles_deg],
+                     _trajectory_arrays(plan.trajectories, [j.name for j in problem.kinematics.joints], problem.n))
+    shape = (problem.n, problem.kinematics.n_joints)
+    for name, seq in (("configurations", motion.confs), ("angles_deg", motion.poses)):
+        wrong = [k for k, c in enumerate(seq) if c.shape != shape]
+        if wrong:
+            problems.append(f"{name}[{wrong[0]}] has shape {list(seq[wrong[0]].shape)}, not {list(shape)} "
+                            f"({problem.n} positioners, {shape[1]} joints): a plan for another problem?")
+            return _result(False, 0, 0, problems, max(0, len(seq) - 1), None)
+    bad = [k for k, a in enumerate(motion.poses) if not np.all(np.isfinite(a))]
+    if bad:
+        problems.append(f"angles_deg[{bad[0]}] holds an angle that is not a finite number")
+        return _result(False, 0, 0, problems, max(0, len(motion.poses) - 1), None)
+    if motion.trajs is None and plan.trajectories is not None:
+        problems.append(f"trajectories must give each of {problem.n} positioners the joints "
+                        f"{[j.name for j in problem.kinematics.joints]}, each a non-empty list of [t_s, deg] in "
+                        f"increasing time: a plan for another problem?")
+        return _result(False, 0, 0, problems, 0, None)
+    if plan.status != "complete":
+        problems.append(f"plan status is {plan.status!r}" + (f": {plan.reason}" if plan.reason else ""))
+    if not motion.confs and not motion.poses and motion.trajs is None:
+        problems.append("the plan has no configurations")
+        return _result(False, 0, int(np.sum(np.all(problem.start == problem.target, axis=1))), problems, 0, None)
+    return motion
+
+
+def _check_configurations(problem: Problem, plan: Plan, confs: list[np.ndarray], poses: list[np.ndarray],
+                          checker: MotionChecker, problems: list[str]) -> tuple[int, MotionCheck]:
+    """A motion given by lattice configurations (and the angles given besides them): the robots
+    at target and what the geometric check found."""
+    kin = problem.kinematics
+    steps = np.array([j.steps for j in kin.joints])
+    wraps = np.array([j.wraps for j in kin.joints])
+    at_target = int(np.sum(np.all(confs[-1] == problem.target, axis=1)))
+    _check_sequence(problem, plan, kin.kind, confs, steps, wraps, problems)
+    if poses:
+        _check_angles_match(problem, confs, poses, problems)
+    _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs])),
+                          "configurations", problems)
+
+    def step(k: int) -> tuple[np.ndarray, np.ndarray]:
+        a0 = problem.angles_deg(confs[k])
+        if k + 1 >= len(confs):
+            return a0, np.zeros_like(a0)
+        delta = _step_delta(confs[k], confs[k + 1], steps, wraps, k, problems)
+        return a0, problem.angles_deg(confs[k] + delta) - a0
+
+    return at_target, checker.check(step, len(confs), "configuration 0", problems)
+
+
+def _check_poses(problem: Problem, plan: Plan, poses: list[np.ndarray], checker: MotionChecker,
+                 problems: list[str]) -> tuple[int, MotionCheck]:
+    """A motion given by joint angles: each step the short way round where a joint wraps."""
+    stacked = np.stack(poses)
+    at_target = _check_angle_poses(problem, stacked, "angles_deg", problems)
+    _check_held_and_rules(problem, lambda p: stacked[:, p], "angles_deg", problems)
+    if plan.makespan is not None and plan.makespan != len(poses) - 1:
+        problems.append(f"makespan is {plan.makespan} but the plan has {len(poses) - 1} steps")
+    return at_target, checker.check(_pose_steps(poses, _wrapping(problem)), len(poses), "pose 0", problems)
+
+
+def _check_trajectory_motion(problem: Problem, poses: np.ndarray, checker: MotionChecker,
+                             problems: list[str]) -> tuple[int, MotionCheck]:
+    """Trajectories' poses at their breakpoint times ``(U, N, J)``: start, target, ranges,
+    offline robots and joint rules, then the steps between them (linear in time, hence in angle)."""
+    at_target = _check_angle_poses(problem, poses, "trajectories", problems)
+    _check_held_and_rules(problem, lambda p: poses[:, p], "trajectories", problems)
+    return at_target, checker.check(_pose_steps(list(poses), None), len(poses), "pose 0", problems)
 
 
 def _check_angles_match(problem: Problem, confs: list[np.ndarray], poses: list[np.ndarray],
@@ -355,6 +423,114 @@ def _step_delta(c0: np.ndarray, c1: np.ndarray, steps: np.ndarray, wraps: np.nda
         problems.append(f"step {k}->{k + 1}: positioners {_ids(jumps)} move a joint by more than one step")
         delta = np.clip(delta, -1, 1)
     return delta
+
+
+def _wrapping(problem: Problem) -> np.ndarray:
+    """``(N, J)``: does joint ``j`` of robot ``p`` wrap?"""
+    return np.array([[j.wraps for j in problem.kin(p).joints] for p in range(problem.n)], dtype=bool).reshape(
+        problem.n, problem.kinematics.n_joints)
+
+
+def _short_way(d: np.ndarray) -> np.ndarray:
+    return np.mod(d + 180.0, 360.0) - 180.0
+
+
+def _pose_steps(poses: list[np.ndarray], wraps: np.ndarray | None) -> Callable[[int], tuple[np.ndarray, np.ndarray]]:
+    """Steps between angle poses: literal differences, or the short way round where ``wraps``."""
+    def step(k: int) -> tuple[np.ndarray, np.ndarray]:
+        if k + 1 >= len(poses):
+            return poses[k], np.zeros_like(poses[k])
+        d = poses[k + 1] - poses[k]
+        return poses[k], (d if wraps is None else np.where(wraps, _short_way(d), d))
+    return step
+
+
+def _angles_off(problem: Problem, got: np.ndarray, want: np.ndarray, rows: int | None = None) -> np.ndarray:
+    """Rows (robots; or the poses of robot ``rows``) whose angles ``got`` differ from ``want`` by
+    more than :data:`ANGLE_TOL` (modulo 360 where the joint wraps)."""
+    d = got - want
+    wraps = _wrapping(problem)
+    d = np.where(wraps if rows is None else wraps[rows], _short_way(d), d)
+    return np.nonzero(np.any(~(np.abs(d) <= ANGLE_TOL), axis=1))[0]
+
+
+def _check_angle_poses(problem: Problem, poses: np.ndarray, name: str, problems: list[str]) -> int:
+    """Start, target and joint ranges of angle poses ``(T+1, N, J)``; the robots at target."""
+    bad = _angles_off(problem, poses[0], problem.angles_deg(problem.start))
+    if len(bad):
+        problems.append(f"{name}: the plan does not start at the start (positioners {_ids(bad)} are more than "
+                        f"{ANGLE_TOL:g} deg off)")
+    bad = _angles_off(problem, poses[-1], problem.angles_deg(problem.target))
+    if len(bad):
+        problems.append(f"{name}: the plan does not end at the target (positioners {_ids(bad)} are more than "
+                        f"{ANGLE_TOL:g} deg off)")
+    lo = np.full(poses.shape[1:], -np.inf)
+    hi = np.full(poses.shape[1:], np.inf)
+    for p in range(problem.n):
+        k = problem.kin(p)
+        for j, jt in enumerate(k.joints):
+            rng = getattr(k, "alpha_range" if j == 0 else "beta_range", None) if k.kind == "alpha-beta" else None
+            if not jt.wraps and rng is not None:
+                lo[p, j], hi[p, j] = rng
+    out = np.any((poses < lo - ANGLE_TOL) | (poses > hi + ANGLE_TOL), axis=2)
+    for k in np.nonzero(out.any(axis=1))[0][:3]:
+        problems.append(f"{name}: pose {k}: positioners {_ids(np.nonzero(out[k])[0])} are out of the joint ranges")
+    return problem.n - len(bad)
+
+
+def _check_held_and_rules(problem: Problem, robot_angles: Callable[[int], np.ndarray], name: str,
+                          problems: list[str]) -> None:
+    """Offline robots (``problem.held``) never leave their start angles; no robot under a joint
+    rule (``problem.joint_rules``: ``β < c0 + c1·α`` forbidden, degrees) enters its forbidden
+    half-plane (a step is linear in angle, so checking the poses checks the motion).
+    ``robot_angles(p)``: robot ``p``'s angles at every pose ``(T+1, J)``."""
+    held, rules = getattr(problem, "held", None) or {}, getattr(problem, "joint_rules", None) or {}
+    start = problem.angles_deg(problem.start) if held else None
+    moved = [p for p in sorted(held) if len(_angles_off(problem, robot_angles(p),
+                                                        np.broadcast_to(start[p], (1, start.shape[1])), rows=p))]
+    broken = [p for p in sorted(rules)
+              if np.any((a := robot_angles(p))[:, 1] < rules[p][0] + rules[p][1] * a[:, 0] - ANGLE_TOL)]
+    if moved:
+        problems.append(f"{name}: offline positioners {_ids(moved)} move")
+    if broken:
+        problems.append(f"{name}: positioners {_ids(broken)} enter the forbidden region of their joint rule "
+                        f"(beta < c0 + c1 * alpha)")
+
+
+def _trajectory_arrays(trajs: Any, names: list[str], n: int) -> list[dict[str, np.ndarray]] | None:
+    """The trajectories as ``{joint: (K, 2) array}`` per robot, or None (none, or not this problem's)."""
+    if trajs is None or not isinstance(trajs, (list, tuple)) or len(trajs) != n:
+        return None
+    out = []
+    for robot in trajs:
+        if not isinstance(robot, dict) or set(robot) != set(names):
+            return None
+        try:
+            arrays = {name: np.asarray(robot[name], dtype=float).reshape(-1, 2) for name in names}
+        except (TypeError, ValueError):
+            return None
+        if any(len(a) == 0 or not np.all(np.isfinite(a)) or np.any(np.diff(a[:, 0]) <= 0) for a in arrays.values()):
+            return None
+        out.append(arrays)
+    return out
+
+
+def trajectory_poses(trajs: list[dict[str, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """The union of all breakpoint times and every robot's angles there ``(U, N, J)``, each
+    joint linear in time between its breakpoints and held before the first and after the last."""
+    names = list(trajs[0])
+    times = np.unique(np.concatenate([a[:, 0] for robot in trajs for a in robot.values()]))
+    poses = np.empty((len(times), len(trajs), len(names)))
+    for p, robot in enumerate(trajs):
+        for j, name in enumerate(names):
+            poses[:, p, j] = np.interp(times, robot[name][:, 0], robot[name][:, 1])
+    return times, poses
+
+
+def _ids(idx: Any, limit: int = 10) -> str:
+    idx = [int(i) for i in idx]
+    text = ", ".join(map(str, idx[:limit]))
+    return text + (f", ... ({len(idx)} in all)" if len(idx) > limit else "")
 
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,

@@ -29,8 +29,7 @@ from ..geometry.layout import _finite_number, _short
 from ..instruments import load_instrument, motion_limits
 from .plan import Plan, exchanged
 from .problem import Problem, read_json
-from .validate import validate_plan
-from .validate_motion import _trajectory_poses
+from .validate import trajectory_poses, validate_plan
 
 __all__ = ["JaegerCheck", "read_jaeger", "check_jaeger", "MAX_JAEGER_BYTES"]
 
@@ -92,23 +91,25 @@ def read_jaeger(data: Any, problem: Problem, where: str | None = None) -> list[d
         if not isinstance(robot, dict) or set(robot) != set(_JOINTS):
             raise FormatError(f"{name} must be {{\"alpha\": [[deg, s], ...], \"beta\": [[deg, s], ...]}}, got "
                               f"{_short(robot)}", value=robot, where=where)
-        arrays = {}
-        for joint in _JOINTS:
-            pts = robot[joint]
-            if not isinstance(pts, list) or not pts:
-                raise FormatError(f"{name}.{joint} must be a non-empty list of [deg, s]", value=pts, where=where)
-            for i, pt in enumerate(pts):
-                if not (isinstance(pt, (list, tuple)) and len(pt) == 2 and all(_finite_number(v) for v in pt)
-                        and abs(pt[0]) <= 1e9 and 0 <= pt[1] <= 1e15):
-                    raise FormatError(f"{name}.{joint}[{i}] must be [deg, s] (|deg| <= 1e9, 0 <= s <= 1e15), got "
-                                      f"{_short(pt)}", value=pt, where=where)
-                if i and pt[1] <= pts[i - 1][1]:
-                    raise FormatError(f"{name}.{joint}[{i}]: times must increase, got {pt[1]!r} after "
-                                      f"{pts[i - 1][1]!r}", value=pt[1], where=where)
-            arrays[joint] = np.array([[float(t), float(a)] for a, t in pts])
-        out[index[name]] = arrays
+        out[index[name]] = {joint: _joint_points(f"{name}.{joint}", robot[joint], where) for joint in _JOINTS}
     return [r if r is not None else {j: np.array([[0.0, float(start[p, i])]]) for i, j in enumerate(_JOINTS)}
             for p, r in enumerate(out)]
+
+
+def _joint_points(name: str, pts: Any, where: str | None) -> np.ndarray:
+    """One joint's jaeger points ``[[deg, s], ...]`` as the validator's ``(K, 2) [t, deg]``;
+    ``name``: ``"<positioner ID>.<joint>"``, named by every error."""
+    if not isinstance(pts, list) or not pts:
+        raise FormatError(f"{name} must be a non-empty list of [deg, s]", value=pts, where=where)
+    for i, pt in enumerate(pts):
+        if not (isinstance(pt, (list, tuple)) and len(pt) == 2 and all(_finite_number(v) for v in pt)
+                and abs(pt[0]) <= 1e9 and 0 <= pt[1] <= 1e15):
+            raise FormatError(f"{name}[{i}] must be [deg, s] (|deg| <= 1e9, 0 <= s <= 1e15), got "
+                              f"{_short(pt)}", value=pt, where=where)
+        if i and pt[1] <= pts[i - 1][1]:
+            raise FormatError(f"{name}[{i}]: times must increase, got {pt[1]!r} after "
+                              f"{pts[i - 1][1]!r}", value=pt[1], where=where)
+    return np.array([[float(t), float(a)] for a, t in pts])
 
 
 def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None, reverse: bool = False,
@@ -141,7 +142,7 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
         raise InputError(f"must be a speed in RPM > 0, got {max_rpm!r}", value=max_rpm, where="max_rpm")
     limit = float(max_rpm) * 6.0
     result = validate_plan(problem, Plan("complete", trajectories=trajs), resolution)
-    times, _ = _trajectory_poses(trajs)
+    times, _ = trajectory_poses(trajs)
     problems = list(result["problems"])
     fastest = max((float(np.max(np.abs(np.diff(a[:, 1]) / np.diff(a[:, 0])))) for r in trajs for a in r.values()
                    if len(a) > 1), default=0.0)

@@ -1,7 +1,7 @@
-"""The validator's geometry: robots at joint angles, segment distances, the certified check of one step.
+"""The validator's geometry: robots at joint angles, segment distances, the certified check of a motion.
 
-Part of :mod:`.validate` (see its docstring for the rule), kept apart only for size.  A
-step is a motion **linear in joint angle**, ``θ(t) = θ_0 + t·Δθ`` (``t ∈ [0, 1]``, all joints
+:mod:`.validate` reads a plan into a motion; this module says where that motion collides
+(:class:`MotionChecker`, the rule in :mod:`.validate`'s docstring).  A step is a motion **linear in joint angle**, ``θ(t) = θ_0 + t·Δθ`` (``t ∈ [0, 1]``, all joints
 of all robots together); robot ``p``'s colliding segment at any angles is its kinematics'
 two-link chain (:meth:`~supcoord.geometry.joint_space.Kinematics.chain`, the formula of its
 ``segments_at_deg``, evaluated for all robots at once by :func:`supcoord.geometry.chain.chain_segments`)
@@ -23,17 +23,16 @@ References
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Callable
+from dataclasses import dataclass, field
+from typing import Any, Callable
 
 import numpy as np
 
 from ..geometry.chain import chain_angles_deg, chain_segments
 from ..geometry.fleet import chain_arrays
 
-if TYPE_CHECKING:
-    from .problem import Problem
-
-__all__ = ["segment_distance_ericson", "TOLERANCE", "MAX_OPEN", "ANGLE_TOL", "Bodies"]
+__all__ = ["segment_distance_ericson", "step_distances", "Bodies", "MotionCheck", "MotionChecker", "TOLERANCE",
+           "MAX_OPEN", "MAX_TURNS", "TIE"]
 
 #: depth (mm) below which bisection stops: a collision shallower than this can pass unseen
 TOLERANCE = 1e-6
@@ -43,8 +42,12 @@ _ROWS = 200_000
 #: a stretch (distance exactly ``r_a + r_b``), which no sampling can settle; the result
 #: reports how deep a collision there could be (``undecided_depth``)
 MAX_OPEN = 64
-#: degrees within which a plan's angles must meet the start, the target and the joint ranges
-ANGLE_TOL = 1e-6
+#: most full turns of a joint in one step that the geometric check follows (beyond: reported)
+MAX_TURNS = 100
+#: depth (mm) of an overlap the validator attributes to rounding: arms that touch at exactly the
+#: buffer sum (round-number layouts) come out 1e-15 mm either side of it in double precision,
+#: differently in the planner's formulas and in these, so a touch is not reported as a collision
+TIE = 1e-9
 
 
 def segment_distance_ericson(p1: Any, q1: Any, p2: Any, q2: Any) -> np.ndarray:
@@ -104,7 +107,6 @@ def _to_segment(x: np.ndarray, start: np.ndarray, direction: np.ndarray, length2
 
 def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
-
 
 
 def _segment_radius(kin: Any) -> float:
@@ -191,7 +193,7 @@ class Bodies:
         return out
 
 
-def _step_distances(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, ia: np.ndarray, ib: np.ndarray,
+def step_distances(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, ia: np.ndarray, ib: np.ndarray,
                     travel: np.ndarray, need: np.ndarray,
                     resolution: float) -> tuple[np.ndarray, np.ndarray, tuple[int, float]]:
     """Least distance of each pair ``(ia, ib)`` over the step ``a0 + t·turn`` (angles of the
@@ -285,111 +287,79 @@ def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarra
     return np.concatenate(out_a), np.concatenate(out_b)
 
 
-# --- plans given by angles or trajectories ---------------------------------------------------
+@dataclass(frozen=True)
+class MotionCheck:
+    """What the geometric check of a motion found: colliding (step, pair) incidents, the
+    least clearance ``dist − (r_a + r_b)`` (mm, ``inf`` when no pair was checked), the first
+    incidents (``{"step", "positioners", "t", "distance", "required"[, "obstacle"]}``), the
+    pairs left undecided and how deep a collision they could hide (mm)."""
 
-def _wrapping(problem: Problem) -> np.ndarray:
-    """``(N, J)``: does joint ``j`` of robot ``p`` wrap?"""
-    return np.array([[j.wraps for j in problem.kin(p).joints] for p in range(problem.n)], dtype=bool).reshape(
-        problem.n, problem.kinematics.n_joints)
+    collisions: int = 0
+    clearance: float = math.inf
+    incidents: list[dict[str, Any]] = field(default_factory=list)
+    undecided: int = 0
+    depth: float = 0.0
 
-
-def _short_way(d: np.ndarray) -> np.ndarray:
-    return np.mod(d + 180.0, 360.0) - 180.0
-
-
-def _pose_steps(poses: list[np.ndarray], wraps: np.ndarray | None) -> Callable[[int], tuple[np.ndarray, np.ndarray]]:
-    """Steps between angle poses: literal differences, or the short way round where ``wraps``."""
-    def step(k: int) -> tuple[np.ndarray, np.ndarray]:
-        if k + 1 >= len(poses):
-            return poses[k], np.zeros_like(poses[k])
-        d = poses[k + 1] - poses[k]
-        return poses[k], (d if wraps is None else np.where(wraps, _short_way(d), d))
-    return step
+    def plus(self, other: MotionCheck) -> MotionCheck:
+        """Both checks' findings (the incidents listed are this check's)."""
+        return MotionCheck(self.collisions + other.collisions, min(self.clearance, other.clearance), self.incidents,
+                           self.undecided + other.undecided, max(self.depth, other.depth))
 
 
-def _angles_off(problem: Problem, got: np.ndarray, want: np.ndarray, rows: int | None = None) -> np.ndarray:
-    """Rows (robots; or the poses of robot ``rows``) whose angles ``got`` differ from ``want`` by
-    more than :data:`ANGLE_TOL` (modulo 360 where the joint wraps)."""
-    d = got - want
-    wraps = _wrapping(problem)
-    d = np.where(wraps if rows is None else wraps[rows], _short_way(d), d)
-    return np.nonzero(np.any(~(np.abs(d) <= ANGLE_TOL), axis=1))[0]
+class MotionChecker:
+    """The certified collision check of motions among ``problem``'s robots on ``bases``: the
+    pairs that can meet (:meth:`Bodies.pairs`), each needing ``dist ≥ r_a + r_b``, sampled at
+    ``resolution`` (mm) then bisected (:func:`step_distances`); at most ``max_incidents``
+    incidents are listed."""
 
+    def __init__(self, problem: Any, bases: np.ndarray, resolution: float, max_incidents: int):
+        self.bodies = Bodies(problem, bases)
+        self.ia, self.ib = self.bodies.pairs()
+        self.need = self.bodies.buffers[self.ia] + self.bodies.buffers[self.ib]
+        self.resolution, self.max_incidents = resolution, max_incidents
 
-def _check_angle_poses(problem: Problem, poses: np.ndarray, name: str, problems: list[str]) -> int:
-    """Start, target and joint ranges of angle poses ``(T+1, N, J)``; the robots at target."""
-    bad = _angles_off(problem, poses[0], problem.angles_deg(problem.start))
-    if len(bad):
-        problems.append(f"{name}: the plan does not start at the start (positioners {_ids(bad)} are more than "
-                        f"{ANGLE_TOL:g} deg off)")
-    bad = _angles_off(problem, poses[-1], problem.angles_deg(problem.target))
-    if len(bad):
-        problems.append(f"{name}: the plan does not end at the target (positioners {_ids(bad)} are more than "
-                        f"{ANGLE_TOL:g} deg off)")
-    lo = np.full(poses.shape[1:], -np.inf)
-    hi = np.full(poses.shape[1:], np.inf)
-    for p in range(problem.n):
-        k = problem.kin(p)
-        for j, jt in enumerate(k.joints):
-            rng = getattr(k, "alpha_range" if j == 0 else "beta_range", None) if k.kind == "alpha-beta" else None
-            if not jt.wraps and rng is not None:
-                lo[p, j], hi[p, j] = rng
-    out = np.any((poses < lo - ANGLE_TOL) | (poses > hi + ANGLE_TOL), axis=2)
-    for k in np.nonzero(out.any(axis=1))[0][:3]:
-        problems.append(f"{name}: pose {k}: positioners {_ids(np.nonzero(out[k])[0])} are out of the joint ranges")
-    return problem.n - len(bad)
-
-
-def _check_held_and_rules(problem: Problem, robot_angles: Callable[[int], np.ndarray], name: str,
-                          problems: list[str]) -> None:
-    """Offline robots (``problem.held``) never leave their start angles; no robot under a joint
-    rule (``problem.joint_rules``: ``β < c0 + c1·α`` forbidden, degrees) enters its forbidden
-    half-plane (a step is linear in angle, so checking the poses checks the motion).
-    ``robot_angles(p)``: robot ``p``'s angles at every pose ``(T+1, J)``."""
-    held, rules = getattr(problem, "held", None) or {}, getattr(problem, "joint_rules", None) or {}
-    start = problem.angles_deg(problem.start) if held else None
-    moved = [p for p in sorted(held) if len(_angles_off(problem, robot_angles(p),
-                                                        np.broadcast_to(start[p], (1, start.shape[1])), rows=p))]
-    broken = [p for p in sorted(rules)
-              if np.any((a := robot_angles(p))[:, 1] < rules[p][0] + rules[p][1] * a[:, 0] - ANGLE_TOL)]
-    if moved:
-        problems.append(f"{name}: offline positioners {_ids(moved)} move")
-    if broken:
-        problems.append(f"{name}: positioners {_ids(broken)} enter the forbidden region of their joint rule "
-                        f"(beta < c0 + c1 * alpha)")
-
-
-def _trajectory_arrays(trajs: Any, names: list[str], n: int) -> list[dict[str, np.ndarray]] | None:
-    """The trajectories as ``{joint: (K, 2) array}`` per robot, or None (none, or not this problem's)."""
-    if trajs is None or not isinstance(trajs, (list, tuple)) or len(trajs) != n:
-        return None
-    out = []
-    for robot in trajs:
-        if not isinstance(robot, dict) or set(robot) != set(names):
-            return None
-        try:
-            arrays = {name: np.asarray(robot[name], dtype=float).reshape(-1, 2) for name in names}
-        except (TypeError, ValueError):
-            return None
-        if any(len(a) == 0 or not np.all(np.isfinite(a)) or np.any(np.diff(a[:, 0]) <= 0) for a in arrays.values()):
-            return None
-        out.append(arrays)
-    return out
-
-
-def _trajectory_poses(trajs: list[dict[str, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
-    """The union of all breakpoint times and every robot's angles there ``(U, N, J)``, each
-    joint linear in time between its breakpoints and held before the first and after the last."""
-    names = list(trajs[0])
-    times = np.unique(np.concatenate([a[:, 0] for robot in trajs for a in robot.values()]))
-    poses = np.empty((len(times), len(trajs), len(names)))
-    for p, robot in enumerate(trajs):
-        for j, name in enumerate(names):
-            poses[:, p, j] = np.interp(times, robot[name][:, 0], robot[name][:, 1])
-    return times, poses
-
-
-def _ids(idx: Any, limit: int = 10) -> str:
-    idx = [int(i) for i in idx]
-    text = ", ".join(map(str, idx[:limit]))
-    return text + (f", ... ({len(idx)} in all)" if len(idx) > limit else "")
+    def check(self, step: Callable[[int], tuple[np.ndarray, np.ndarray]], count: int, single: str,
+              problems: list[str]) -> MotionCheck:
+        """Check ``count`` poses, ``step(k)`` giving pose ``k``'s angles ``(N, J)`` (degrees) and
+        the turn to pose ``k + 1``; each collision is appended to ``problems`` (a one-pose
+        motion is named ``single``)."""
+        bodies, ia, ib, need = self.bodies, self.ia, self.ib, self.need
+        n = bodies.n
+        collisions = undecided = 0
+        depth = 0.0
+        clearance = math.inf
+        incidents: list[dict[str, Any]] = []
+        for k in range(max(1, count - 1)):
+            a0, turn = step(k)
+            a0, turn = bodies.pad(a0), bodies.pad(turn)
+            where = f"step {k}->{k + 1}" if count > 1 else single
+            # a step turning a joint by more than a turn is checked a turn at a time (the same motion)
+            pieces = max(1, math.ceil(float(np.abs(turn).max(initial=0.0)) / 360.0))
+            if pieces > MAX_TURNS:
+                problems.append(f"{where}: a joint turns by {float(np.abs(turn).max()):.6g} deg, more than {MAX_TURNS} "
+                                f"turns: not checked for collisions")
+                continue
+            dmin, tmin = np.full(len(ia), np.inf), np.zeros(len(ia))
+            for i in range(pieces):
+                part = turn / pieces
+                d, t, (unsure, deep) = step_distances(bodies, a0 + i * part, part, ia, ib, bodies.travel(part),
+                                                      need - TIE, self.resolution)
+                tmin = np.where(d < dmin, (i + t) / pieces, tmin)
+                dmin = np.minimum(dmin, d)
+                undecided += unsure
+                depth = max(depth, deep)
+            if len(dmin):
+                clearance = min(clearance, float(np.min(dmin - need)))
+            hits = np.nonzero(dmin < need - TIE)[0]
+            collisions += len(hits)
+            for h in hits:
+                a, b = int(ia[h]), int(ib[h])
+                what = f"positioners {a} and {b} collide" if b < n else f"positioner {a} collides with obstacle {b - n}"
+                problems.append(f"{where}: {what} (distance {dmin[h]:.3f} mm < {need[h]:.3f} mm)")
+                if len(incidents) < self.max_incidents:
+                    inc = {"step": k, "positioners": [a, b] if b < n else [a], "t": float(tmin[h]),
+                           "distance": float(dmin[h]), "required": float(need[h])}
+                    if b >= n:
+                        inc["obstacle"] = b - n
+                    incidents.append(inc)
+        return MotionCheck(collisions, clearance, incidents, undecided, depth)
