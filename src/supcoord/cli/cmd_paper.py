@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CommandResult, Console, budget_from_args
+from .common import CommandResult, Console, budget_from_args, options_named
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
 
@@ -75,31 +75,19 @@ def _magnitude(count: int | None, log10: float | None) -> str:
 
 
 #: parameters of :func:`~supcoord.paper.run.run_paper` whose errors are shown as the options of the same name
-LIBRARY_PARAMETERS = ("positioners", "steps", "model", "seed", "semantics", "route")
-
-
-def _as_option(exc):
-    """The library's error about a parameter, told as the option of the same name."""
-    from ..errors import InputError
-
-    message = exc.message.replace("use route ", "use --route ").replace("count_states ", "--count-states ")
-    return InputError(message, value=exc.value, where="--" + exc.where.replace("_", "-"))
+OPTIONS = {name: "--" + name.replace("_", "-")
+           for name in ("positioners", "steps", "model", "seed", "semantics", "route", "count_states")}
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..bdd.context import Context
-    from ..errors import InputError
     from ..paper.run import run_paper
 
     ctx = Context(args.backend, budget=budget_from_args(args), progress=console.progress)
-    try:
+    with options_named(OPTIONS):  # the library names its parameters
         paper = run_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
                           route=args.route, count_transitions=True if args.count_transitions else None,
                           count_states=True if args.count_states else None)
-    except InputError as exc:  # the library names its parameters; here they are options
-        if exc.where not in LIBRARY_PARAMETERS:
-            raise
-        raise _as_option(exc) from None
     payload = paper.to_json()
     return CommandResult(payload, _text(paper, payload))
 

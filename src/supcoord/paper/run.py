@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 import time
+from functools import partial
 from dataclasses import dataclass
 from typing import Any
 
@@ -328,56 +329,45 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
               count_transitions: bool | None = None, count_states: bool | None = None) -> PaperRun:
     """Build, synthesize and check the seed paper's model for ``positioners`` positioners.
 
-    Builds ``G = ||_i G^{P_i}`` and ``E = allevents(G) || S`` for a seeded random instance
-    on the hex grid (or ``instance``), synthesizes ``V = supcon(G, E)`` and runs
-    ``CCC(V)``, by the route of :data:`~supcoord.paper.routes.PAPER_ROUTES` (module
-    docstring).
+    Builds ``G`` and ``E = allevents(G) || S`` for a seeded random instance on the hex grid (or
+    ``instance``), then ``V = supcon(G, E)`` and ``CCC(V)`` by a route of :data:`.routes.PAPER_ROUTES`.
 
     Parameters
     ----------
     positioners : int
         Number of positioners, 1 to :data:`MAX_POSITIONERS` (ignored with ``instance``).
     steps : int
-        Positions per positioner (discrete steps of its arm), 2 to :data:`MAX_STEPS`
-        (ignored with ``instance``).
-    model : str
-        ``"literal"`` (the model as printed) or ``"coupled"`` (collision events driven by
-        the arms' geometry).
+        Positions (discrete arm steps) per positioner, 2 to :data:`MAX_STEPS` (ignored with ``instance``).
+    model : {"literal", "coupled"}
+        The model as printed, or with collision events driven by the arms' geometry.
     seed : int
         Seed of the random starts and targets, >= 0.
-    semantics : str
-        Forcibility semantics of CCC: ``"preemptive"`` or ``"standard"``.
+    semantics : {"preemptive", "standard"}
+        Forcibility semantics of CCC.
     ctx : Context, optional
-        The BDD context; one with a budget (nodes, seconds) makes the run stop with
-        :class:`~supcoord.errors.BudgetExceeded` when it runs out.
-    route : str, optional
-        ``"modular"``, ``"monolithic"`` or ``"settled"``; None:
-        :func:`~supcoord.paper.routes.default_route` (the coupled model then takes the
-        monolithic route for an instance whose target has an arm in another's safety zone).
+        The BDD context; with a budget (nodes, seconds) the run stops when it runs out.
+    route : {"modular", "monolithic", "settled"}, optional
+        None: :func:`~supcoord.paper.routes.default_route` (the coupled model takes the monolithic
+        route for an instance whose target has an arm in another's safety zone).
     instance : PaperInstance, optional
-        Starts, targets, priorities and neighbours to use instead of the seeded random ones.
+        Starts, targets, priorities and neighbours instead of the seeded random ones.
     geometry : Geometry, optional
         The coupled model's arm geometry (mm, degrees); None: the paper's.
     count_transitions : bool, optional
-        Monolithic route: count ``V``'s transitions exactly even beyond
-        :data:`AUTO_COUNT_EVENTS` events (None: automatic).
+        Monolithic route: exact transition count beyond :data:`AUTO_COUNT_EVENTS` events (None: automatic).
     count_states : bool, optional
-        Coupled model: build the trim supervisor and count its exact sizes even beyond
-        :data:`AUTO_COUNT_COUPLED` positioners (None: automatic); ``supervisor`` is then
-        the trim one.
+        Coupled model: the trim ``V`` and its sizes beyond :data:`AUTO_COUNT_COUPLED` positioners (None: auto).
 
     Returns
     -------
     PaperRun
-        What was built (``G``, ``E``, ``supcon``), ``V``'s ``sizes`` (``sizes.counted``
-        says whether they were counted), the ``ccc`` verdict, rank and witness, the
-        ``timings`` (s); :meth:`PaperRun.to_json` is ``supcoord paper --json``.
+        What was built, ``V``'s ``sizes`` (``sizes.counted``: whether counted), the ``ccc``
+        verdict, rank and witness, ``timings`` (s); ``to_json()`` is ``supcoord paper --json``.
 
     Raises
     ------
     InputError
-        An unknown model or route, a route not exact for the model or semantics, sizes or
-        a seed out of range; ``where`` names the parameter.
+        Unknown model or route, a route not exact here, a size or seed out of range (``where``: the parameter).
     BudgetExceeded
         The budget of ``ctx`` ran out.
 
@@ -386,16 +376,12 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     >>> run = run_paper(positioners=4, steps=6, seed=2)
     >>> run.route, run.forcible, run.sizes.states == run.supcon.stats["states"]
     ('modular', False, True)
-    >>> run.certificate.startswith("P1's initial state is not forcible")
-    True
     >>> run_paper(4, 6, model="coupled", seed=1).route  # CCC on the settled states, no V
     'settled'
 
     References
     ----------
-    .. [1] M. Macktoobian, D. Gillet, J.-P. Kneib, "Supervisory coordination of robotic
-       fiber positioners in multi-object spectrographs", IFAC LSS 2019,
-       doi:10.1016/j.ifacol.2019.06.011.
+    .. [1] M. Macktoobian, D. Gillet, J.-P. Kneib, IFAC LSS 2019, doi:10.1016/j.ifacol.2019.06.011.
     .. [2] W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, Springer, 2019.
     """
     chosen = route is None
@@ -409,10 +395,8 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         raise InputError(f"instance must be a PaperInstance, got {type(instance).__name__}", value=instance)
     t0 = time.perf_counter()
     ctx = ctx or Context()
-    if model == "literal":
-        inst = instance or random_instance(positioners, steps, seed)
-    else:
-        inst = instance or coupled_instance(positioners, steps, seed, geometry)
+    make = random_instance if model == "literal" else partial(coupled_instance, geometry=geometry)
+    inst = instance or make(positioners, steps, seed)
     cm = CoupledModel(inst, geometry) if model == "coupled" else None
     if chosen and route == "settled" and target_in_zone(cm) is not None:
         row = paper_route(model, "monolithic", semantics)  # a collision pending at the target: V may lose it

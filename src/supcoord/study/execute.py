@@ -157,13 +157,13 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
     version = version or code_version()
     workers = workers if workers is not None else (study.workers if study.workers is not None else DEFAULT_WORKERS)
     if workers < 0:
-        raise InputError(f"must be >= 0, got {workers}", value=workers, where="--workers")
+        raise InputError(f"must be >= 0, got {workers}", value=workers, where="workers")
     path = study.database_path(database)
     with ResultStore(path, inputs=[study.path]) as store:
         unknown = sorted(set(retry) - set(FAILED))
         if unknown:
             raise InputError(f"can only retry failed statuses ({', '.join(FAILED)}), got {unknown[0]!r}",
-                             value=unknown[0], where="--retry")
+                             value=unknown[0], where="retry")
         todo = pending(study, store, version, retry, any_version)
         summary = RunSummary(study.name, str(path), version, len(study.cases), len(todo), workers=workers)
         found = records(study, store, version, any_version)
@@ -258,8 +258,8 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
         from distributed import Client, LocalCluster, as_completed
         from distributed.scheduler import KilledWorker
     except ImportError as exc:  # pragma: no cover (a dependency)
-        raise InputError(f"running on Dask needs dask[distributed] ({exc}); or use --workers 0",
-                         value=None, where="--workers") from None
+        raise InputError(f"running on Dask needs dask[distributed] ({exc}); or use workers=0",
+                         value=None, where="workers") from None
     cluster = client = stop = None
     try:
         if scheduler is None:
@@ -275,13 +275,13 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
         try:
             client = Client(cluster if cluster is not None else scheduler, timeout=30)
         except OSError as exc:
-            raise InputError(f"cannot reach the Dask scheduler ({exc})", value=scheduler, where="--scheduler") from None
+            raise InputError(f"cannot reach the Dask scheduler ({exc})", value=scheduler, where="scheduler") from None
         stop = f"supcoord-stop-{uuid.uuid4().hex}"
         if scheduler is not None:
             versions = set(client.run(code_version).values())
             if versions - {version}:
                 raise InputError(f"the cluster's workers run supcoord {', '.join(sorted(versions))}, this process "
-                                 f"{version}: install the same code on both", value=scheduler, where="--scheduler")
+                                 f"{version}: install the same code on both", value=scheduler, where="scheduler")
             workers = max(1, len(client.scheduler_info().get("workers", {})))
         queue = collections.deque(todo)
         running: dict[str, Case] = {}
