@@ -150,10 +150,65 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
               scheduler: str | None = None, progress: Callable[[str], None] | None = print,
               version: str | None = None, retry: Iterable[str] = (), any_version: bool = False,
               command: str = "") -> RunSummary:
-    """Run the cases of ``study`` not yet done; see the module docstring.  ``progress``
-    receives one line per finished case (done/failed/total, throughput, time left).
-    ``any_version``: a case recorded by any code version counts (to resume a long study
-    across commits that did not change what it measures; new rows get this version)."""
+    """Run the cases of ``study`` not yet done, each in a process of its own, and record them.
+
+    Cases run small first, on Dask workers or one after another (module docstring); each
+    case's row is committed to the database as it ends, so an interrupted run resumes
+    where it stopped.
+
+    Parameters
+    ----------
+    study : Study
+        The cases, their time limits (s) and memory limits (MB) (:func:`~.spec.load_study`).
+    database : str or path-like, optional
+        The SQLite results database; None: the study's own (``study.database_path()``).
+    workers : int, optional
+        Worker processes of an embedded Dask cluster, >= 0; 0 runs the cases one after
+        another from this process; None: the study's ``workers``, else :data:`DEFAULT_WORKERS`.
+    scheduler : str, optional
+        Address of an existing Dask scheduler (``"tcp://host:8786"``) instead of an
+        embedded cluster; its workers must run the same code version.
+    progress : callable, optional
+        Receives one line per finished case (done/failed/total, throughput, time left); None: silent.
+    version : str, optional
+        The code version recorded with each row; None: :func:`~.machine.code_version`.
+    retry : iterable of str
+        Failed statuses (``timeout``, ``out-of-memory``, ``error``, ``crashed``, ``lost``)
+        whose cases run again.
+    any_version : bool
+        Count a case recorded by any code version as done (to resume a long study across
+        commits that did not change what it measures; new rows get this version).
+    command : str
+        The command line recorded with the run.
+
+    Returns
+    -------
+    RunSummary
+        The study's cases, how many were pending, ran and failed, per status, the wall
+        time (s), and whether the run was interrupted (Ctrl-C or SIGTERM).
+
+    Raises
+    ------
+    InputError
+        ``workers`` below 0, a ``retry`` status that is not a failure, an unreachable
+        ``scheduler`` or one whose workers run another version (``where`` names the
+        parameter); a database that is not a study's.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from supcoord.study import study_from_dict
+    >>> study = study_from_dict({"name": "mini", "cases": [{"kind": "call", "function": "math:sqrt", "args": [4]}]})
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     summary = run_study(study, pathlib.Path(tmp) / "r.sqlite", workers=0, progress=None)
+    >>> summary.ran, summary.statuses
+    (1, {'ok': 1})
+
+    References
+    ----------
+    .. [1] M. Rocklin, "Dask: parallel computation with blocked algorithms and task
+       scheduling", Proc. 14th Python in Science Conference, 2015, doi:10.25080/Majora-7b98e3ed-013.
+    """
     version = version or code_version()
     workers = workers if workers is not None else (study.workers if study.workers is not None else DEFAULT_WORKERS)
     if workers < 0:
