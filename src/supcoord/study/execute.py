@@ -150,11 +150,8 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
               scheduler: str | None = None, progress: Callable[[str], None] | None = print,
               version: str | None = None, retry: Iterable[str] = (), any_version: bool = False,
               command: str = "") -> RunSummary:
-    """Run the cases of ``study`` not yet done, each in a process of its own, and record them.
-
-    Cases run small first, on Dask workers or one after another (module docstring); each
-    case's row is committed to the database as it ends, so an interrupted run resumes
-    where it stopped.
+    """Run the cases of ``study`` not yet done (small first, each in a process of its own),
+    committing each case's row as it ends, so an interrupted run resumes where it stopped.
 
     Parameters
     ----------
@@ -163,18 +160,15 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
     database : str or path-like, optional
         The SQLite results database; None: the study's own (``study.database_path()``).
     workers : int, optional
-        Worker processes of an embedded Dask cluster, >= 0; 0 runs the cases one after
-        another from this process; None: the study's ``workers``, else :data:`DEFAULT_WORKERS`.
+        Processes of an embedded Dask cluster; 0: one case after another, here; None: the study's, else 2.
     scheduler : str, optional
-        Address of an existing Dask scheduler (``"tcp://host:8786"``) instead of an
-        embedded cluster; its workers must run the same code version.
+        An existing Dask scheduler (``"tcp://host:8786"``), whose workers run the same code version.
     progress : callable, optional
         Receives one line per finished case (done/failed/total, throughput, time left); None: silent.
     version : str, optional
         The code version recorded with each row; None: :func:`~.machine.code_version`.
     retry : iterable of str
-        Failed statuses (``timeout``, ``out-of-memory``, ``error``, ``crashed``, ``lost``)
-        whose cases run again.
+        Failed statuses whose cases run again (``timeout``, ``out-of-memory``, ``error``, ``crashed``, ``lost``).
     any_version : bool
         Count a case recorded by any code version as done (to resume a long study across
         commits that did not change what it measures; new rows get this version).
@@ -184,15 +178,13 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
     Returns
     -------
     RunSummary
-        The study's cases, how many were pending, ran and failed, per status, the wall
-        time (s), and whether the run was interrupted (Ctrl-C or SIGTERM).
+        Cases pending, run and failed, per status; the wall time (s); whether interrupted.
 
     Raises
     ------
     InputError
-        ``workers`` below 0, a ``retry`` status that is not a failure, an unreachable
-        ``scheduler`` or one whose workers run another version (``where`` names the
-        parameter); a database that is not a study's.
+        ``workers`` < 0, a ``retry`` status that is no failure, an unreachable ``scheduler`` or
+        one of another version (``where``: the parameter); a database that is not a study's.
 
     Examples
     --------
@@ -206,8 +198,8 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
 
     References
     ----------
-    .. [1] M. Rocklin, "Dask: parallel computation with blocked algorithms and task
-       scheduling", Proc. 14th Python in Science Conference, 2015, doi:10.25080/Majora-7b98e3ed-013.
+    .. [1] M. Rocklin, "Dask: parallel computation with blocked algorithms and task scheduling",
+       SciPy 2015, doi:10.25080/Majora-7b98e3ed-013.
     """
     version = version or code_version()
     workers = workers if workers is not None else (study.workers if study.workers is not None else DEFAULT_WORKERS)
@@ -221,48 +213,69 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
                              value=unknown[0], where="retry")
         todo = pending(study, store, version, retry, any_version)
         summary = RunSummary(study.name, str(path), version, len(study.cases), len(todo), workers=workers)
-        found = records(study, store, version, any_version)
-        due = {c.params_key for c in todo}
-        already_failed = sum((found.get(c.params_key) or ("ok",))[0] in FAILED for c in study.cases
-                             if c.params_key not in due)
-        report = StudyProgress(len(study.cases), len(study.cases) - len(todo), progress, already_failed)
+        report = _report(study, store, todo, version, any_version, progress)
         if not todo:
             report.line(f"{study.name}: all {len(study.cases)} cases done ({path})")
             return summary
         summary.run = store.start_run(study=study.name, started=_now(), version=version, machine=machine(),
                                       cpu=cpu_model(), workers=workers, scheduler=scheduler or "", total=len(study.cases),
                                       pending=len(todo), command=command)
-        t0 = time.perf_counter()
-        skips = _Skips(study, store, version, any_version)
-
-        def finish(case: Case, row: dict[str, Any]) -> None:
-            row = _row(case, row, study, version, summary.run)
-            store.record(row)
-            summary.ran += 1
-            summary.statuses[row["status"]] = summary.statuses.get(row["status"], 0) + 1
-            if row["status"] == "crashed" and summary.first_crash is None:
-                summary.first_crash = f"{case.describe()}: {row.get('message') or 'no message'}"[:300]
-            if row["status"] in ("timeout", "out-of-memory"):
-                skips.note(case, row["status"])
-            report.finished(case, row)
-
         report.line(f"{study.name}: {len(todo)} of {len(study.cases)} cases to run on "
                     f"{scheduler or (f'{workers} worker processes' if workers else 'this process, one after another')}"
                     f"; results in {path}")
-        try:
-            with _sigterm_as_interrupt():
-                if workers == 0 and scheduler is None:
-                    _serial(todo, skips, finish, version)
-                else:
-                    _dask(todo, skips, finish, version, workers, scheduler)
-        except KeyboardInterrupt:
-            summary.interrupted = True
-        summary.wall_seconds = time.perf_counter() - t0
-        store.finish_run(summary.run, finished=_now(), ran=summary.ran, failed=summary.failed,
-                         skipped=summary.statuses.get("skipped", 0), wall_seconds=summary.wall_seconds,
-                         ended="interrupted" if summary.interrupted else "finished")
+        _execute(todo, _Recorder(study, store, version, any_version, summary, report), workers, scheduler)
         report.done(summary)
     return summary
+
+
+def _report(study: Study, store: ResultStore, todo: list[Case], version: str, any_version: bool,
+            progress: Callable[[str], None] | None) -> StudyProgress:
+    """The progress lines of a run, counting the failures recorded before it."""
+    found = records(study, store, version, any_version)
+    due = {c.params_key for c in todo}
+    already_failed = sum((found.get(c.params_key) or ("ok",))[0] in FAILED for c in study.cases
+                         if c.params_key not in due)
+    return StudyProgress(len(study.cases), len(study.cases) - len(todo), progress, already_failed)
+
+
+class _Recorder:
+    """Records each finished case of a run: its row in the store, the run's summary, the
+    ``skip_larger`` failures and the progress line."""
+
+    def __init__(self, study: Study, store: ResultStore, version: str, any_version: bool, summary: RunSummary,
+                 report: StudyProgress) -> None:
+        self.study, self.store, self.version, self.summary, self.report = study, store, version, summary, report
+        self.skips = _Skips(study, store, version, any_version)
+
+    def finish(self, case: Case, row: dict[str, Any]) -> None:
+        summary = self.summary
+        row = _row(case, row, self.study, self.version, summary.run)
+        self.store.record(row)
+        summary.ran += 1
+        summary.statuses[row["status"]] = summary.statuses.get(row["status"], 0) + 1
+        if row["status"] == "crashed" and summary.first_crash is None:
+            summary.first_crash = f"{case.describe()}: {row.get('message') or 'no message'}"[:300]
+        if row["status"] in ("timeout", "out-of-memory"):
+            self.skips.note(case, row["status"])
+        self.report.finished(case, row)
+
+
+def _execute(todo: list[Case], recorder: _Recorder, workers: int, scheduler: str | None) -> None:
+    """Run ``todo`` (serially, or on Dask) until done or interrupted, and close the run's record."""
+    summary, version = recorder.summary, recorder.version
+    t0 = time.perf_counter()
+    try:
+        with _sigterm_as_interrupt():
+            if workers == 0 and scheduler is None:
+                _serial(todo, recorder.skips, recorder.finish, version)
+            else:
+                _dask(todo, recorder.skips, recorder.finish, version, workers, scheduler)
+    except KeyboardInterrupt:
+        summary.interrupted = True
+    summary.wall_seconds = time.perf_counter() - t0
+    recorder.store.finish_run(summary.run, finished=_now(), ran=summary.ran, failed=summary.failed,
+                              skipped=summary.statuses.get("skipped", 0), wall_seconds=summary.wall_seconds,
+                              ended="interrupted" if summary.interrupted else "finished")
 
 
 def _now() -> str:
