@@ -34,7 +34,7 @@ EXAMPLE = """examples:
   supcoord paper --positioners 5 --steps 8 --model coupled --route monolithic --count-states"""
 
 
-def __getattr__(name: str):  # solve_paper lives in the positioners layer; kept importable from here
+def __getattr__(name: str):  # solve_paper lives in supcoord.paper.run; kept importable from here
     if name == "solve_paper":
         from ..paper.run import solve_paper
 

@@ -251,8 +251,8 @@ def json_count(count: int | None) -> int | None:
     return None
 
 
-#: largest model ``run_paper`` builds: positioners (20,000 measured: 97 s and 4 GB for the
-#: literal model's modular route at 12 steps) and steps per positioner
+#: largest model ``run_paper`` builds: positioners (the cost of the largest is in docs/cli.md,
+#: ``--positioners``) and steps per positioner
 MAX_POSITIONERS = 20_000
 MAX_STEPS = 4096
 MAX_SEED = 2**63 - 1
