@@ -5,7 +5,8 @@ in).  The kinds mirror the command line:
 
 - ``paper``: the seed paper's model (:func:`supcoord.paper.run.run_paper`, ``supcoord
   paper``): ``positioners``, ``steps``, ``model``, ``route``, ``seed``, ``semantics``,
-  ``count_transitions``;
+  ``count_transitions``; the routes and the rules of which model and semantics each
+  takes are those of :data:`supcoord.paper.routes.PAPER_ROUTES`;
 - ``solve``: geometric coordination (:func:`supcoord.planning.planner.solve`, ``supcoord
   solve``) of a problem that is ``"random"`` (:func:`supcoord.problems.random.random_problem`:
   ``layout``, ``rings``, ``kinematics``, ``buffer``, ``seed``, ``priority``), ``"preset"``
