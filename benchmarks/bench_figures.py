@@ -50,8 +50,8 @@ def redraw_gif(problem, plan, path, substeps=4, fps=10, dpi=80):
     """The first version's method: a full redraw of every frame through FuncAnimation."""
     from matplotlib.animation import FuncAnimation, PillowWriter
 
-    from supcoord.figures.problem import add_legend, draw_layout, new_figure, plot_configuration, plot_target, plt
-    from supcoord.figures.plan import interpolate_plan
+    from supcoord.figures.problem_figures import add_legend, draw_layout, new_figure, plot_configuration, plot_target, plt
+    from supcoord.figures.plan_figures import interpolate_plan
 
     frames = interpolate_plan(problem, plan, substeps)
     fig, ax = new_figure(problem, 4.0, legend_width=1.6)

@@ -121,7 +121,7 @@ def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeyp
     """The coupled route synthesizes V without Reach and runs CCC on it: the verdict,
     rank and witness of the trim supervisor; its sizes are counted up to
     AUTO_COUNT_COUPLED positioners (or on request) and equal the trim supervisor's."""
-    import supcoord.paper.run as run
+    import supcoord.paper.routes as routes
 
     counted = run_paper(size, 6, model="coupled", seed=seed, route="monolithic")
     trim = _results(_model(size, 6, seed), "auto")
@@ -130,7 +130,7 @@ def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeyp
             counted.payload["supervisor_marked"]) == trim[:3]
     assert (counted.payload["ccc"], counted.payload["rank"], tuple(counted.payload["witness"])) == trim[3:]
     assert counted.supervisor.count_states() == trim[0]
-    monkeypatch.setattr(run, "AUTO_COUNT_COUPLED", size - 1)
+    monkeypatch.setattr(routes, "AUTO_COUNT_COUPLED", size - 1)
     quick = run_paper(size, 6, model="coupled", seed=seed, route="monolithic")
     assert quick.payload["counted"] is False and quick.payload["supervisor_states"] is None
     assert quick.payload["supervisor_states_log10"] is None and quick.payload["timings"]["count"] == 0

@@ -150,7 +150,7 @@ def _with_obstacles(problem_json):
 def test_fiducials_and_guide_cameras_are_drawn_and_named(tmp_path):
     import matplotlib.pyplot as plt
 
-    from supcoord.figures.problem import plot_problem
+    from supcoord.figures.problem_figures import plot_problem
 
     problem = _with_obstacles(THREE)
     ax = plot_problem(problem)
@@ -180,7 +180,7 @@ def test_the_strip_names_the_plan_and_labels_mm(tmp_path, three, monkeypatch):
 def test_a_large_plan_gets_one_overview_with_a_timeline(tmp_path, monkeypatch):
     import matplotlib.figure
 
-    from supcoord.figures.plan import save_plan_figure
+    from supcoord.figures.plan_figures import save_plan_figure
     from supcoord.figures.wok import OVERVIEW_ABOVE
 
     seen = []

@@ -300,17 +300,17 @@ def test_call_cases_find_their_module_on_the_study_pythonpath_and_get_their_size
     {"model": "coupled", "route": "monolithic", "semantics": "standard"}], ids=repr)
 def test_every_model_and_route_a_paper_case_can_declare_is_measured(params):
     """Each route is measured by what it builds: V's states where it was counted, else none."""
-    from supcoord.study.cases import run_case
+    from supcoord.study.case_run import run_case
     from supcoord.study.kinds import check_params
 
     full = check_params("paper", {"positioners": 3, "steps": 6, **params}, "cases[0]")
     out = run_case("paper", full, 30, 2000)
-    assert out["status"] == "ok" and out["verdict"] in ("forcible", "not forcible") and out["bdd_nodes"] > 0
-    assert out["extra"]["route"] == full["route"] and out["extra"]["peak_nodes"] > 0
+    assert out.status == "ok" and out.verdict in ("forcible", "not forcible") and out.bdd_nodes > 0
+    assert out.extra["route"] == full["route"] and out.extra["peak_nodes"] > 0
     if full["route"] == "settled":
-        assert out.get("states") is None and out["extra"]["settled"]["relations"] > 0
+        assert out.states is None and out.extra["settled"]["relations"] > 0
     else:
-        assert int(out["states"]) > 0
+        assert int(out.states) > 0
 
 
 @pytest.mark.timeout(60)

@@ -56,15 +56,15 @@ MOVED: dict[str, str] = {
     "positioners.planner_improve": "planning.improve",
     "positioners.planner_optimal": "planning.optimum",
     "positioners.search_naive": "testing.search",
-    "positioners.figures": "figures.problem",
-    "positioners.figures_plan": "figures.plan",
+    "positioners.figures": "figures.problem_figures",
+    "positioners.figures_plan": "figures.plan_figures",
 }
 
 #: names of an old module that now live elsewhere than its main new home (looked up in order)
 ALSO: dict[str, tuple[str, ...]] = {
     "positioners.presets": ("problems.presets",),
     "positioners.planner": ("planning.layers",),
-    "positioners.figures": ("figures.plan",),
+    "positioners.figures": ("figures.plan_figures",),
     "positioners.coordination": ("planning.guards", "planning.graph_order"),
     "positioners.planner_forward": ("bdd.context",),
 }

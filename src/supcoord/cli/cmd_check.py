@@ -110,7 +110,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     console.progress("validate", {"steps": max(len(plan.configurations) - 1, 0)})
     result = validate_plan(problem, plan, resolution=args.resolution)
     if args.figure:
-        from ..figures.plan import save_plan_figure
+        from ..figures.plan_figures import save_plan_figure
 
         drawn = dict(result, incidents=[i for i in result["incidents"] if len(i["positioners"]) == 2]
                      if plan.configurations else [])

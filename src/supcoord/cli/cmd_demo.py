@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CommandResult, Console
+from .common import CommandResult, Console, options_named
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
 
@@ -37,5 +37,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..paper.demo import run_demo
 
-    result = run_demo(None if args.no_files else args.out)
+    with options_named({"out": "--out"}):  # the library names its parameter out
+        result = run_demo(None if args.no_files else args.out)
     return CommandResult(result.payload, result.text)

@@ -11,7 +11,8 @@ coupled model under preemptive semantics to ``settled`` (CCC on its settled stat
 synthesized without its reachable set and its exact sizes are counted up to 6
 positioners (``--count-states`` beyond, which also selects ``monolithic``; ``"counted"``
 says whether they were).  The library function is
-:func:`supcoord.paper.run.solve_paper` (re-exported here).
+:func:`supcoord.paper.run.run_paper`; its :class:`~supcoord.paper.run.PaperRun`'s
+``to_json()`` is the JSON (``solve_paper``, re-exported here, returns it).
 JSON: ``{"status", "positioners", "steps", "model", "route", "supervisor_states" (null beyond
 4000 digits: Python refuses longer integers), "supervisor_states_log10",
 "supervisor_transitions", "counted", "bdd_nodes", "ccc", "rank", "witness_length", "witness",
@@ -22,7 +23,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CommandResult, Console, budget_from_args
+from .common import CommandResult, Console, budget_from_args, options_named
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run"]
 
@@ -33,7 +34,7 @@ EXAMPLE = """examples:
   supcoord paper --positioners 5 --steps 8 --model coupled --route monolithic --count-states"""
 
 
-def __getattr__(name: str):  # solve_paper lives in the positioners layer; kept importable from here
+def __getattr__(name: str):  # solve_paper lives in supcoord.paper.run; kept importable from here
     if name == "solve_paper":
         from ..paper.run import solve_paper
 
@@ -73,40 +74,40 @@ def _magnitude(count: int | None, log10: float | None) -> str:
     return "0" if log10 is None else f"10^{log10:.1f}"
 
 
-#: parameters of :func:`~supcoord.paper.run.solve_paper` whose errors are shown as the options of the same name
-LIBRARY_PARAMETERS = ("positioners", "steps", "model", "seed", "semantics", "route")
+#: parameters of :func:`~supcoord.paper.run.run_paper` whose errors are shown as the options of the same name
+OPTIONS = {name: "--" + name.replace("_", "-")
+           for name in ("positioners", "steps", "model", "seed", "semantics", "route", "count_states")}
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..bdd.context import Context
-    from ..errors import InputError
-    from ..paper.run import solve_paper
+    from ..paper.run import run_paper
 
     ctx = Context(args.backend, budget=budget_from_args(args), progress=console.progress)
-    try:
-        payload = solve_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
-                              route=args.route, count_transitions=True if args.count_transitions else None,
-                              count_states=True if args.count_states else None)
-    except InputError as exc:  # the library names its parameters; here they are options
-        if exc.where not in LIBRARY_PARAMETERS:
-            raise
-        message = exc.message.replace("use route ", "use --route ").replace("count_states ", "--count-states ")
-        raise InputError(message, value=exc.value, where="--" + exc.where.replace("_", "-")) from None
+    with options_named(OPTIONS):  # the library names its parameters
+        paper = run_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
+                          route=args.route, count_transitions=True if args.count_transitions else None,
+                          count_states=True if args.count_states else None)
+    payload = paper.to_json()
+    return CommandResult(payload, _text(paper, payload))
+
+
+def _text(paper, payload: dict) -> str:
+    """The one-line report of a :class:`~supcoord.paper.run.PaperRun` (``payload``: its JSON)."""
     t = payload["timings"]
-    verdict = "forcible" if payload["ccc"] else "NOT forcible"
-    if payload["ccc"]:
+    verdict = "forcible" if paper.forcible else "NOT forcible"
+    if paper.forcible:
         verdict += f", witness of {payload['witness_length']} events"
-    if payload.get("certificate"):
-        verdict += f" ({payload['certificate']})"
-    if payload["route"] == "settled":
-        states = f"V not built (CCC on the settled states, {payload['settled']['relations']} relations)"
-    elif payload["counted"]:
+    if paper.certificate:
+        verdict += f" ({paper.certificate})"
+    if paper.settled is not None:
+        states = f"V not built (CCC on the settled states, {paper.settled.relations} relations)"
+    elif paper.sizes.counted:
         states = (f"V has {_magnitude(payload['supervisor_states'], payload['supervisor_states_log10'])} states, "
-                  f"{payload['bdd_nodes']} BDD nodes")
+                  f"{paper.sizes.bdd_nodes} BDD nodes")
     else:
-        states = f"V's states not counted (--count-states), {payload['bdd_nodes']} BDD nodes"
-    text = (f"{payload['model']} model, {payload['route']} route, {payload['positioners']} positioners, "
+        states = f"V's states not counted (--count-states), {paper.sizes.bdd_nodes} BDD nodes"
+    return (f"{paper.model} model, {paper.route} route, {payload['positioners']} positioners, "
             f"{payload['steps']} steps (seed {payload['seed']}): {states}; CCC {verdict}; {payload['seconds']} s "
             f"(build {t['build']}, supcon {t['supcon']}, ccc {t['ccc']}"
             + (f", count {t['count']})" if t.get("count") else ")"))
-    return CommandResult(payload, text)

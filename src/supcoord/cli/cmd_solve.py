@@ -174,7 +174,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         atomic_write_text(csv, trajectories_csv(plan.trajectories), what="--trajectories-csv")
     exported = _write_jaeger(problem, plan, args, jaeger)
     if args.figure:
-        from ..figures.plan import save_plan_figure
+        from ..figures.plan_figures import save_plan_figure
 
         with as_option("--figure"):
             save_plan_figure(problem, plan, args.figure, progress=console.progress)

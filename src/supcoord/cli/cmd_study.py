@@ -22,13 +22,11 @@ every row of a results database (``.sqlite``) given instead of the study file.  
 from __future__ import annotations
 
 import argparse
-import contextlib
 import dataclasses
-from collections.abc import Iterator
 import re
 from pathlib import Path
 
-from .common import CommandResult, Console
+from .common import CommandResult, Console, options_named
 
 __all__ = ["ACTIONS", "BUDGETS", "DESCRIPTION", "EXAMPLE", "HELP", "add_arguments", "run"]
 
@@ -109,6 +107,10 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     return action(args, console, study, database)
 
 
+#: parameters of :func:`~supcoord.study.execute.run_study` whose errors are shown as their options
+RUN_OPTIONS = {"workers": "--workers", "scheduler": "--scheduler", "retry": "--retry"}
+
+
 def _run(args, console, study, database) -> CommandResult:
     import sys
 
@@ -127,8 +129,9 @@ def _run(args, console, study, database) -> CommandResult:
         counted = re.match(r"\[\s*(\d+)/(\d+)\]", line)
         console.progress("study", {"done": int(counted[1]), "total": int(counted[2])} if counted else {})
 
-    summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=report,
-                        version=args.code_version, retry=args.retry, any_version=args.any_version, command=command)
+    with options_named(RUN_OPTIONS):  # the library names its parameters
+        summary = run_study(study, database, workers=args.workers, scheduler=args.scheduler, progress=report,
+                            version=args.code_version, retry=args.retry, any_version=args.any_version, command=command)
     payload = {"status": "interrupted" if summary.interrupted else "finished", **dataclasses.asdict(summary),
                "failed": summary.failed, "left": summary.left}
     text = (f"{study.name}: {summary.total} cases, {summary.total - summary.pending} done before this run, "
@@ -205,7 +208,7 @@ def _export(args, console, study, database) -> CommandResult:
     fmt = args.format or (Path(args.out).suffix.lstrip(".").lower() if args.out else "csv") or "csv"
     out = Path(args.out) if args.out else database.with_suffix(f".{fmt}")
     check_output(out, [database, args.study], "--out")  # never over the database or the study file
-    with _out_option():
+    with options_named({"out": "--out"}):
         n = export_results(_existing(database), out, fmt, study=study)
     return CommandResult({"status": "ok", "rows": n, "format": fmt, "out": str(out)}, f"{n} rows written to {out}")
 
@@ -220,26 +223,11 @@ def _plot(args, console, study, database) -> CommandResult:
     from ..study.plots import check_output_dir
 
     out = Path(args.out) if args.out else database.with_name(database.stem + "-figures")
-    with _out_option():
+    with options_named({"out": "--out"}):
         check_output_dir(out)
         paths = study_figures(results_rows(_existing(database), study=study), out, inputs=[database, args.study])
     return CommandResult({"status": "ok", "figures": [str(p) for p in paths]},
                          "figures written: " + ", ".join(str(p) for p in paths))
-
-
-@contextlib.contextmanager
-def _out_option() -> Iterator[None]:
-    """The library names its parameter ``out``; on the command line it is ``--out``."""
-    from ..errors import InputError
-
-    try:
-        yield
-    except InputError as exc:
-        if exc.where == "out":
-            raise InputError(exc.message, value=exc.value, where="--out") from None
-        if exc.message.startswith("out: "):
-            raise InputError("--out: " + exc.message[5:], value=exc.value, where=exc.where) from None
-        raise
 
 
 def _existing(database: Path) -> Path:

@@ -127,13 +127,12 @@ def _route(args, components) -> str:
     return "explicit" if largest > LARGE_COMPONENT and bound <= MAX_CODES else "symbolic"
 
 
-def run(args: argparse.Namespace, console: Console) -> CommandResult:
-    from ..des.io import read_generator_flat, write_generator_flat
+def _inputs(args: argparse.Namespace, console: Console):
+    """The plants (with the specification-only events' component last, or None) and the
+    specifications, read and checked before any work; ``(plants, specs, extra)``."""
+    from ..des.io import read_generator_flat
     from ..errors import InputError
-    from ..synthesis.product import check_alphabets
 
-    t0 = time.perf_counter()
-    budget = budget_from_args(args)
     if args.export_limit < 1:
         raise InputError(f"must be at least 1, got {args.export_limit}", value=args.export_limit,
                          where="--export-limit")
@@ -146,7 +145,17 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     plants = [read_generator_flat(p) for p in plant_paths]
     specs = [read_generator_flat(p) for p in spec_paths]
     specs, extra = _plant_flags(plants, specs, spec_paths, args, console)
-    plants = plants + ([extra] if extra is not None else [])
+    return plants + ([extra] if extra is not None else []), specs, extra
+
+
+def run(args: argparse.Namespace, console: Console) -> CommandResult:
+    from ..des.io import write_generator_flat
+    from ..errors import InputError
+    from ..synthesis.product import check_alphabets
+
+    t0 = time.perf_counter()
+    budget = budget_from_args(args)
+    plants, specs, extra = _inputs(args, console)
     labels = [f"P{i}_{g.name}" for i, g in enumerate(plants)] + [f"S{j}_{g.name}" for j, g in enumerate(specs)]
     check_alphabets([e for g in plants for e in g.events], [], "G")
     route = _route(args, plants + specs)
@@ -170,6 +179,11 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     }
     if "effort" in st:  # the symbolic route: seconds per stage, CUDD's counters
         payload["effort"] = st["effort"]
+    return CommandResult(payload=payload, text=_text(args, plants, specs, extra, st, route, seconds))
+
+
+def _text(args, plants, specs, extra, st, route: str, seconds: float) -> str:
+    """The human report: the components, the supervisor's sizes, the effort."""
     names = [g.name for g in plants if g is not extra]
     lines = [
         f"plants: {', '.join(names)}; specifications: {', '.join(g.name for g in specs) or '(none)'}"
@@ -182,7 +196,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     ]
     if args.export:
         lines.append(f"written to {args.export}")
-    return CommandResult(payload=payload, text="\n".join(lines))
+    return "\n".join(lines)
 
 
 def _explicit(plants, specs, labels, budget, console):

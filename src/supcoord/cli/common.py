@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import math
 import os
@@ -10,6 +11,7 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from collections.abc import Iterator
 from typing import Any, Mapping
 
 from ..bdd.budget import MAX_TIMEOUT, current_rss
@@ -17,7 +19,7 @@ from ..bdd.context import Budget
 from ..errors import InputError
 
 __all__ = ["CommandResult", "Console", "command_parser", "add_common_options", "add_problem_argument", "to_jsonable",
-           "budget_from_args", "existing_file", "parse_size"]
+           "budget_from_args", "existing_file", "parse_size", "as_option_error", "options_named"]
 
 
 @dataclass
@@ -131,6 +133,43 @@ def budget_from_args(args: argparse.Namespace) -> Budget:
     if max_nodes is None:
         max_nodes = default_max_nodes()
     return Budget(max_nodes=max_nodes, timeout=timeout, max_memory=max_memory)
+
+
+def as_option_error(exc: InputError, options: Mapping[str, str]) -> InputError:
+    """The library's error about one of its parameters, told with the command's options.
+
+    The library names its parameters (``where="workers"``, "... or use workers=0",
+    "out: 'x' is a directory"); the command line shows the options instead
+    (``--workers``, "... or use --workers 0", "--out: 'x' is a directory").  ``options``
+    maps a parameter to its option; an error that names none of them is returned as it is.
+
+    >>> as_option_error(InputError("must be >= 0, got -1", value=-1, where="workers"), {"workers": "--workers"})
+    InputError('--workers: must be >= 0, got -1')
+    >>> as_option_error(InputError("out: 'x' is a directory, not a file name"), {"out": "--out"})
+    InputError("--out: 'x' is a directory, not a file name")
+    """
+    message = exc.message
+    for name, option in options.items():
+        message = message.replace(f"use {name}=", f"use {option} ").replace(f"use {name} ", f"use {option} ")
+        if message.startswith((f"{name}: ", f"{name} ")):
+            message = option + message[len(name):]
+    where = options.get(exc.where, exc.where)
+    if (message, where) == (exc.message, exc.where):
+        return exc
+    return InputError(message, value=exc.value, where=where)
+
+
+@contextlib.contextmanager
+def options_named(options: Mapping[str, str]) -> Iterator[None]:
+    """Within the block, a library error that names a parameter of ``options`` is told with
+    its option (:func:`as_option_error`); any other error passes unchanged."""
+    try:
+        yield
+    except InputError as exc:
+        told = as_option_error(exc, options)
+        if told is exc:
+            raise
+        raise told from None
 
 
 def existing_file(path: str, what: str = "file") -> Path:

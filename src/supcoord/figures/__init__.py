@@ -1,13 +1,13 @@
 """Figures (matplotlib, Agg backend outside Jupyter): problems, plans, animations, collisions.
 
-:mod:`.problem` draws a layout with start and target arms; :mod:`.plan` draws plans (a
+:mod:`.problem_figures` draws a layout with start and target arms; :mod:`.plan_figures` draws plans (a
 strip of frames, an animated GIF, the collision incidents a validator found).  Importing
 this package imports matplotlib.
 """
 
-from .plan import interpolate_plan, save_incidents_figure, save_plan_figure, save_plan_gif, save_plan_strip
+from .plan_figures import interpolate_plan, save_incidents_figure, save_plan_figure, save_plan_gif, save_plan_strip
 from .wok import plan_title, save_plan_overview
-from .problem import (
+from .problem_figures import (
     add_legend,
     arms,
     capsule,

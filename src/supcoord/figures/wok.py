@@ -23,7 +23,7 @@ from matplotlib.lines import Line2D
 
 from ..problems.plan import Plan
 from ..problems.problem import Problem
-from .problem import arms, draw_layout, draw_obstacles, obstacle_handles, plot_configuration, plt, save_figure
+from .problem_figures import arms, draw_layout, draw_obstacles, obstacle_handles, plot_configuration, plt, save_figure
 
 __all__ = ["OVERVIEW_ABOVE", "instrument_name", "plan_title", "save_plan_overview"]
 

@@ -255,7 +255,7 @@ def check_demo_dir(out: str | Path) -> Path:
         if not os.access(out, os.W_OK | os.X_OK):
             raise InputError("output directory is not writable", value=str(out), where=str(out))
         for name in DEMO_FILES:
-            check_output(out / name, what="--out")
+            check_output(out / name, what="out")
         return out
     parent = out.absolute().parent
     while not parent.exists():

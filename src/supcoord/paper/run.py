@@ -2,7 +2,8 @@
 
 :func:`run_paper` builds ``G = ||_i G^{P_i}`` and ``E = allevents(G) || S`` for an
 instance (seeded random starts and targets on the hex grid, or one you give),
-synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes:
+synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes (the table
+:data:`~supcoord.paper.routes.PAPER_ROUTES` says which runs which model):
 
 - ``modular`` (literal model only, the default there): exact by Theorems 1 and 2 of
   :mod:`.modular` — each distinct positioner is solved once in a small context,
@@ -23,14 +24,15 @@ synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes:
 The modular and monolithic routes return the same supervisor (same state-set BDD;
 ``tests/test_paper.py``); the settled and monolithic routes the same CCC answer
 (``tests/test_settled.py``).
-:func:`solve_paper` returns the JSON object of ``supcoord paper --json`` (docs/formats.md),
-:func:`run_paper` a :class:`PaperRun` that also keeps the generators and results for a
-notebook.
+:func:`run_paper` returns a :class:`PaperRun` (typed: what was built, ``V``'s sizes, the
+verdict, the timings) that also keeps the generators and results for a notebook;
+:meth:`PaperRun.to_json` makes the JSON object of ``supcoord paper --json``
+(docs/formats.md), which :func:`solve_paper` returns.
 
 >>> r = run_paper(positioners=4, steps=6, seed=2)
->>> r.payload["route"], r.payload["supervisor_states"] == r.supcon.stats["states"], r.payload["ccc"]
+>>> r.route, r.sizes.states == r.supcon.stats["states"], r.forcible
 ('modular', True, False)
->>> r.payload["certificate"].startswith("P1's initial state is not forcible")
+>>> r.to_json()["certificate"].startswith("P1's initial state is not forcible")
 True
 
 References
@@ -44,7 +46,8 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from functools import partial
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -52,56 +55,176 @@ import numpy as np
 from ..bdd.context import Context
 from ..des.symbolic import SymbolicGenerator
 from ..errors import InputError
-from ..synthesis import CCCResult, SupconResult, accessible_part, ccc, supcon
+from ..synthesis import CCCResult, SupconResult
 from ..progress import summary_html, summary_repr
-from .coupled import CoupledModel, Geometry, coupled_models
-from .literal import PaperInstance, hex_neighbours, hex_sites, literal_models, random_instance
-from .modular import literal_modular
-from .settled import settled_ccc, target_in_zone
+from .coupled import CoupledModel, Geometry
+from .literal import PaperInstance, hex_neighbours, hex_sites, random_instance
+from .routes import (AUTO_COUNT_COUPLED, AUTO_COUNT_EVENTS, MODELS, ROUTES, RouteOptions, RouteResult, default_route,
+                     paper_route)
+from .settled import target_in_zone
 
-__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "run_paper", "solve_paper",
-           "coupled_instance", "default_route", "json_count", "log10_count"]
+__all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "SupervisorSizes",
+           "PaperTimings", "SettledSearch", "run_paper", "solve_paper", "coupled_instance", "default_route",
+           "json_count", "log10_count"]
 
-MODELS = ("literal", "coupled")
-ROUTES = ("modular", "monolithic", "settled")
-#: the monolithic route counts transitions exactly only up to this many events (the exact
-#: count walks one BDD per event: 20 of 25 s at 100 positioners); the modular route's
-#: count is a closed formula and always exact
-AUTO_COUNT_EVENTS = 256
-#: the coupled model's trim supervisor is counted only up to this many positioners:
-#: counting took 5 s at 6 positioners (benchmarks/results/coupled.md), and the reachable
-#: set alone 87 s at 7 (coupled_sets.md), where the supervisor without it and CCC take 24 s
-AUTO_COUNT_COUPLED = 6
 #: longest exact integer put into the JSON (Python's default int/str conversion limit is 4300)
 MAX_JSON_DIGITS = 4000
 
 
+@dataclass(frozen=True)
+class SupervisorSizes:
+    """The supervisor ``V``'s exact sizes, as far as the route counted them.
+
+    Attributes
+    ----------
+    states, transitions, marked : int or None
+        Exact counts (None where not counted: the settled route builds no ``V``; the
+        coupled model's ``V`` without its reachable set is not counted).
+    bdd_nodes : int or None
+        Nodes of ``V``'s shared BDD (None on the settled route).
+    counted : bool
+        Whether the sizes are those of the trim supervisor.
+    iterations : int or None
+        Iterations of supcon's fixpoint.
+    """
+
+    states: int | None = None
+    transitions: int | None = None
+    marked: int | None = None
+    bdd_nodes: int | None = None
+    counted: bool = False
+    iterations: int | None = None
+
+    @classmethod
+    def of(cls, result: SupconResult | None) -> SupervisorSizes:
+        """The sizes in ``result.stats`` (none for None)."""
+        if result is None:
+            return cls()
+        s = result.stats
+        return cls(s["states"], s["transitions"], s["marked"], s["bdd_nodes"], s.get("accessible", True),
+                   s.get("iterations"))
+
+
+@dataclass(frozen=True)
+class PaperTimings:
+    """Where a run's time went, in seconds: building ``G`` and ``E`` (with the instance),
+    synthesizing ``V``, CCC, counting the trim supervisor after CCC; ``total`` is the run."""
+
+    build: float
+    supcon: float
+    ccc: float
+    count: float
+    total: float
+
+
+@dataclass(frozen=True)
+class SettledSearch:
+    """The settled route's search (:mod:`.settled`): its ``distance`` to the target (None:
+    unreachable), Dial ``buckets`` opened, ``relations`` (moves between settled states),
+    ``max_layer_nodes`` (BDD nodes of the largest layer), ``blocked_group`` (1-based
+    positioners whose own moves cannot reach their targets, or None)."""
+
+    distance: int | None
+    buckets: int
+    relations: int
+    max_layer_nodes: int
+    blocked_group: list[int] | None = None
+
+    @classmethod
+    def of(cls, c: CCCResult) -> SettledSearch:
+        s = c.stats
+        return cls(s["distance"], s["buckets"], s["relations"], s["max_layer_nodes"], s.get("blocked_group"))
+
+
 @dataclass
 class PaperRun:
-    """One run: the instance, ``G``, ``E = allevents(G) || S``, the :class:`SupconResult`,
-    the :class:`CCCResult` and the JSON ``payload`` of ``supcoord paper``."""
+    """One run of :func:`run_paper`: what was built, its sizes, the verdict, the timings.
+
+    Attributes
+    ----------
+    instance : PaperInstance
+        Starts, targets, priorities and neighbours.
+    model, route, semantics : str
+        The reading of the model, the route taken and the forcibility semantics.
+    seed : int or None
+        Seed of the random instance (None for an instance given).
+    G, E : SymbolicGenerator or None
+        The plant and ``allevents(G) || S`` (None on the settled route).
+    supcon : SupconResult or None
+        The supervisor ``V`` (None on the settled route).
+    ccc : CCCResult
+        The verdict, rank and witness.
+    sizes : SupervisorSizes
+        ``V``'s exact sizes, as far as counted.
+    timings : PaperTimings
+        Seconds per stage.
+    distinct_components : int or None
+        Modular route: positioners solved (distinct up to symmetry).
+    settled : SettledSearch or None
+        Settled route: its search.
+
+    :meth:`to_json` is the object of ``supcoord paper --json`` (``docs/formats.md``).
+    """
 
     instance: PaperInstance
     model: str
     route: str
-    G: SymbolicGenerator | None  # None on the settled route, which builds neither G nor V
+    semantics: str
+    seed: int | None
+    G: SymbolicGenerator | None
     E: SymbolicGenerator | None
     supcon: SupconResult | None
     ccc: CCCResult
-    payload: dict[str, Any] = field(default_factory=dict)
+    sizes: SupervisorSizes
+    timings: PaperTimings
+    distinct_components: int | None = None
+    settled: SettledSearch | None = None
 
     @property
     def supervisor(self) -> SymbolicGenerator | None:
         return None if self.supcon is None else self.supcon.supervisor
 
+    @property
+    def forcible(self) -> bool:
+        """CCC's verdict: whether the target is forcible from the initial state."""
+        return self.ccc.forcible
+
+    @property
+    def certificate(self) -> str | None:
+        """Why not forcible, where a route names a reason (the modular and settled routes)."""
+        return self.ccc.stats.get("certificate")
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON object of ``supcoord paper --json``: counts beyond :data:`MAX_JSON_DIGITS`
+        digits as null (``*_log10`` carries the magnitude), seconds rounded to 0.1 ms."""
+        sizes, t, c = self.sizes, self.timings, self.ccc
+        out = {
+            "status": "ok", "positioners": self.instance.size, "steps": self.instance.steps, "model": self.model,
+            "route": self.route, "seed": self.seed, "semantics": self.semantics,
+            "supervisor_states": json_count(sizes.states), "supervisor_states_log10": log10_count(sizes.states),
+            "supervisor_transitions": json_count(sizes.transitions), "supervisor_marked": json_count(sizes.marked),
+            "counted": sizes.counted, "bdd_nodes": sizes.bdd_nodes, "ccc": c.forcible, "rank": c.rank,
+            "witness_length": len(c.witness), "witness": list(c.witness), "certificate": self.certificate,
+            "seconds": round(t.total, 4),
+            "timings": {"build": round(t.build, 4), "supcon": round(t.supcon, 4), "ccc": round(t.ccc, 4),
+                        "count": round(t.count, 4), "supcon_iterations": sizes.iterations},
+        }
+        if self.distinct_components is not None:
+            out["distinct_components"] = self.distinct_components
+        if self.settled is not None:
+            out["settled"] = dict(vars(self.settled))
+        return out
+
+    @property
+    def payload(self) -> dict[str, Any]:
+        """:meth:`to_json` (the name of earlier releases)."""
+        return self.to_json()
+
     def summary(self) -> dict[str, Any]:
         """What a notebook shows: model, route, size, the verdict and the supervisor's numbers."""
-        out: dict[str, Any] = {"model": self.model, "route": self.route}
-        for key in ("positioners", "steps", "seed"):
-            if key in self.payload:
-                out[key] = self.payload[key]
-        out["forcible"] = getattr(self.ccc, "forcible", None)
-        out["rank"] = getattr(self.ccc, "rank", None)
+        out: dict[str, Any] = {"model": self.model, "route": self.route, "positioners": self.instance.size,
+                               "steps": self.instance.steps, "seed": self.seed,
+                               "forcible": self.ccc.forcible, "rank": self.ccc.rank}
         if self.supcon is not None:
             out.update({k: v for k, v in self.supcon.summary().items() if k in ("states", "marked", "bdd_nodes")})
         return out
@@ -128,28 +251,19 @@ def json_count(count: int | None) -> int | None:
     return None
 
 
-def default_route(model: str, semantics: str = "preemptive", count_states: bool | None = None) -> str:
-    """``modular`` for the literal model (exact, Theorems 1–2); for the coupled model
-    ``settled`` under preemptive semantics (exact, :mod:`.settled`) unless the supervisor's
-    states are to be counted, else ``monolithic``.  :func:`run_paper` also takes the
-    monolithic route for an instance whose target has an arm in another's safety zone."""
-    if model == "literal":
-        return "modular"
-    return "settled" if semantics == "preemptive" and not count_states else "monolithic"
-
-
-#: largest model ``run_paper`` builds: positioners (20,000 measured: 97 s and 4 GB for the
-#: literal model's modular route at 12 steps) and steps per positioner
+#: largest model ``run_paper`` builds: positioners (the cost of the largest is in docs/cli.md,
+#: ``--positioners``) and steps per positioner
 MAX_POSITIONERS = 20_000
 MAX_STEPS = 4096
 MAX_SEED = 2**63 - 1
 
 
-def _positive_int(value: Any, least: int, flag: str, most: int | None = None) -> int:
+def _positive_int(value: Any, least: int, name: str, most: int | None = None) -> int:
+    """``value`` as an int in ``[least, most]``, or an :class:`InputError` at the parameter ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-        raise InputError(f"must be an integer >= {least}, got {value!r}", value=value, where=flag)
+        raise InputError(f"must be an integer >= {least}, got {value!r}", value=value, where=name)
     if most is not None and value > most:
-        raise InputError(f"must be at most {most}, got {value!r}", value=value, where=flag)
+        raise InputError(f"must be at most {most}, got {value!r}", value=value, where=name)
     return int(value)
 
 
@@ -213,38 +327,66 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
               semantics: str = "preemptive", ctx: Context | None = None, *, route: str | None = None,
               instance: PaperInstance | None = None, geometry: Geometry | None = None,
               count_transitions: bool | None = None, count_states: bool | None = None) -> PaperRun:
-    """Build, synthesize and check the paper's model; see the module docstring.
+    """Build, synthesize and check the seed paper's model for ``positioners`` positioners.
 
-    ``instance`` replaces the seeded random one (``positioners``/``steps`` are then taken
-    from it); ``route`` defaults to :func:`default_route`; ``count_transitions`` (None:
-    automatic) asks the monolithic route for the exact transition count even beyond
-    :data:`AUTO_COUNT_EVENTS` events; ``count_states`` (None: automatic) asks the coupled
-    model for the trim supervisor and its exact sizes even beyond
-    :data:`AUTO_COUNT_COUPLED` positioners (``payload["counted"]`` says whether they were
-    counted; ``supervisor`` is then the trim one).  A ``ctx`` with a budget makes the run raise
-    :class:`~supcoord.errors.BudgetExceeded` when it runs out.
+    Builds ``G`` and ``E = allevents(G) || S`` for a seeded random instance on the hex grid (or
+    ``instance``), then ``V = supcon(G, E)`` and ``CCC(V)`` by a route of :data:`.routes.PAPER_ROUTES`.
+
+    Parameters
+    ----------
+    positioners : int
+        Number of positioners, 1 to :data:`MAX_POSITIONERS` (ignored with ``instance``).
+    steps : int
+        Positions (discrete arm steps) per positioner, 2 to :data:`MAX_STEPS` (ignored with ``instance``).
+    model : {"literal", "coupled"}
+        The model as printed, or with collision events driven by the arms' geometry.
+    seed : int
+        Seed of the random starts and targets, >= 0.
+    semantics : {"preemptive", "standard"}
+        Forcibility semantics of CCC.
+    ctx : Context, optional
+        The BDD context; with a budget (nodes, seconds) the run stops when it runs out.
+    route : {"modular", "monolithic", "settled"}, optional
+        None: :func:`~supcoord.paper.routes.default_route` (the coupled model takes the monolithic
+        route for an instance whose target has an arm in another's safety zone).
+    instance : PaperInstance, optional
+        Starts, targets, priorities and neighbours instead of the seeded random ones.
+    geometry : Geometry, optional
+        The coupled model's arm geometry (mm, degrees); None: the paper's.
+    count_transitions : bool, optional
+        Monolithic route: exact transition count beyond :data:`AUTO_COUNT_EVENTS` events (None: automatic).
+    count_states : bool, optional
+        Coupled model: the trim ``V`` and its sizes beyond :data:`AUTO_COUNT_COUPLED` positioners (None: auto).
+
+    Returns
+    -------
+    PaperRun
+        What was built, ``V``'s ``sizes`` (``sizes.counted``: whether counted), the ``ccc``
+        verdict, rank and witness, ``timings`` (s); ``to_json()`` is ``supcoord paper --json``.
+
+    Raises
+    ------
+    InputError
+        Unknown model or route, a route not exact here, a size or seed out of range (``where``: the parameter).
+    BudgetExceeded
+        The budget of ``ctx`` ran out.
+
+    Examples
+    --------
+    >>> run = run_paper(positioners=4, steps=6, seed=2)
+    >>> run.route, run.forcible, run.sizes.states == run.supcon.stats["states"]
+    ('modular', False, True)
+    >>> run_paper(4, 6, model="coupled", seed=1).route  # CCC on the settled states, no V
+    'settled'
+
+    References
+    ----------
+    .. [1] M. Macktoobian, D. Gillet, J.-P. Kneib, IFAC LSS 2019, doi:10.1016/j.ifacol.2019.06.011.
+    .. [2] W. M. Wonham, K. Cai, *Supervisory Control of Discrete-Event Systems*, Springer, 2019.
     """
-    if model not in MODELS:
-        raise InputError(f"must be literal or coupled, got {model!r}", value=model, where="model")
     chosen = route is None
     route = default_route(model, semantics, count_states) if route is None else route
-    if route not in ROUTES:
-        raise InputError(f"must be modular, monolithic or settled, got {route!r}", value=route, where="route")
-    if route == "settled":
-        if model != "coupled":
-            raise InputError("settled is a route of the coupled model (its collision events settle the levels); "
-                             "the literal model's routes are modular and monolithic", value=route, where="route")
-        if semantics != "preemptive":
-            raise InputError("settled is exact under preemptive semantics only (under standard semantics a "
-                             "controllable event may be forced while a collision event is pending); use route "
-                             "monolithic", value=semantics, where="semantics")
-        if count_states:
-            raise InputError("count_states counts V, which the settled route does not build; use route "
-                             "monolithic", value=route, where="route")
-    if route == "modular" and model != "literal":
-        raise InputError("modular is exact for the literal model only (the coupled model's collision "
-                         "guards read the neighbours' positions, so its positioners are not independent); "
-                         "use route monolithic", value=route, where="route")
+    row = paper_route(model, route, semantics, count_states)
     if instance is None:
         positioners = _positive_int(positioners, 1, "positioners", MAX_POSITIONERS)
         steps = _positive_int(steps, 2, "steps", MAX_STEPS)
@@ -252,80 +394,34 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     elif not isinstance(instance, PaperInstance):
         raise InputError(f"instance must be a PaperInstance, got {type(instance).__name__}", value=instance)
     t0 = time.perf_counter()
-    counting = 0.0  # seconds spent on the trim supervisor's exact sizes after CCC
     ctx = ctx or Context()
-    if model == "literal":
-        inst = instance or random_instance(positioners, steps, seed)
-    else:
-        inst = instance or coupled_instance(positioners, steps, seed, geometry)
+    make = random_instance if model == "literal" else partial(coupled_instance, geometry=geometry)
+    inst = instance or make(positioners, steps, seed)
     cm = CoupledModel(inst, geometry) if model == "coupled" else None
     if chosen and route == "settled" and target_in_zone(cm) is not None:
-        route = "monolithic"  # a collision pending at the target: V may lose it (paper.settled)
-    res: SupconResult | None = None
-    G = E = None
-    if route == "modular":
-        G, E, res, c = literal_modular(inst, ctx, semantics)
-        t1 = t0 + res.stats["build_seconds"]
-        t2 = time.perf_counter() - c.stats.get("seconds", 0.0)
-    elif route == "settled":
-        c = settled_ccc(cm, ctx)
-        t1 = t0 + c.stats["build_seconds"]
-        t2 = t1
-    else:
-        if model == "literal":
-            G, E = literal_models(inst, ctx)
-        else:
-            cm.check()
-            G, E = coupled_models(cm, ctx)
-        t1 = time.perf_counter()
-        count = len(G.events) <= AUTO_COUNT_EVENTS if count_transitions is None else bool(count_transitions)
-        whole = model == "coupled"  # the supervisor without Reach (module docstring)
-        res = supcon(G, E, count_transitions=count, accessible=not whole)
-        t2 = time.perf_counter()
-        c = ccc(res.supervisor, semantics, full=False)
-        if whole and (inst.size <= AUTO_COUNT_COUPLED if count_states is None else count_states):
-            t_count = time.perf_counter()
-            res = accessible_part(res, count_transitions=count)
-            counting = time.perf_counter() - t_count
+        row = paper_route(model, "monolithic", semantics)  # a collision pending at the target: V may lose it
+    done = row.run(inst, cm, ctx, RouteOptions(semantics, count_transitions, count_states), t0)
+    return _paper_run(inst, model, row.route, semantics, None if instance is not None else seed, done, t0)
+
+
+def _paper_run(inst: PaperInstance, model: str, route: str, semantics: str, seed: int | None, done: RouteResult,
+               t0: float) -> PaperRun:
+    """The :class:`PaperRun` of a route's result, its timings measured from ``t0`` (s)."""
     t3 = time.perf_counter()
-    sizes = res.stats if res is not None else {"states": None, "transitions": None, "marked": None,
-                                                "accessible": False, "bdd_nodes": None}
-    payload = {
-        "status": "ok",
-        "positioners": inst.size,
-        "steps": inst.steps,
-        "model": model,
-        "route": route,
-        "seed": seed if instance is None else None,
-        "semantics": semantics,
-        "supervisor_states": json_count(sizes["states"]),
-        "supervisor_states_log10": log10_count(sizes["states"]),
-        "supervisor_transitions": json_count(sizes["transitions"]),
-        "supervisor_marked": json_count(sizes["marked"]),
-        "counted": sizes.get("accessible", True),
-        "bdd_nodes": sizes["bdd_nodes"],
-        "ccc": c.forcible,
-        "rank": c.rank,
-        "witness_length": len(c.witness),
-        "witness": list(c.witness),
-        "certificate": c.stats.get("certificate"),
-        "seconds": round(t3 - t0, 4),
-        "timings": {"build": round(t1 - t0, 4), "supcon": round(t2 - t1, 4), "ccc": round(t3 - t2 - counting, 4),
-                    "count": round(counting, 4), "supcon_iterations": sizes.get("iterations")},
-    }
-    if route == "modular":
-        payload["distinct_components"] = res.stats["distinct_components"]
-    if route == "settled":
-        payload["settled"] = {k: c.stats[k] for k in ("distance", "buckets", "relations", "max_layer_nodes")}
-        payload["settled"]["blocked_group"] = c.stats.get("blocked_group")
-    return PaperRun(inst, model, route, G, E, res, c, payload)
+    timings = PaperTimings(build=done.built - t0, supcon=done.synthesized - done.built,
+                           ccc=t3 - done.synthesized - done.count_seconds, count=done.count_seconds, total=t3 - t0)
+    components = done.supcon.stats["distinct_components"] if route == "modular" else None
+    settled = SettledSearch.of(done.ccc) if route == "settled" else None
+    return PaperRun(inst, model, route, semantics, seed, done.G, done.E, done.supcon, done.ccc,
+                    SupervisorSizes.of(done.supcon), timings, components, settled)
 
 
 def solve_paper(positioners: int | None = None, steps: int | None = None, model: str = "literal", seed: int = 0,
                 semantics: str = "preemptive", ctx: Context | None = None, **options: Any) -> dict[str, Any]:
-    """The JSON object of ``supcoord paper --json`` (keys: status, positioners, steps,
-    model, route, supervisor_states (None beyond 4000 digits), supervisor_states_log10,
-    supervisor_transitions, bdd_nodes, ccc, rank,
+    """The JSON object of ``supcoord paper --json``: :meth:`PaperRun.to_json` of
+    :func:`run_paper` (keys: status, positioners, steps, model, route, seed, semantics,
+    supervisor_states (None beyond 4000 digits), supervisor_states_log10,
+    supervisor_transitions, supervisor_marked, counted, bdd_nodes, ccc, rank,
     witness_length, witness, certificate, seconds, timings); ``options`` as
     :func:`run_paper`."""
-    return run_paper(positioners, steps, model, seed, semantics, ctx, **options).payload
+    return run_paper(positioners, steps, model, seed, semantics, ctx, **options).to_json()

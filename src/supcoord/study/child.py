@@ -13,9 +13,10 @@ kills it and anything it started, and a Ctrl-C at the terminal does not reach it
    before any heavy import;
 3. becomes the subreaper of the processes the case starts, and kills them when the case
    ends (a case that forks leaves nothing running);
-4. runs the case (:func:`supcoord.study.cases.run_case`) and writes the measurement to
-   ``RESULT.json`` (atomically: written beside it, then renamed), or, for an unexpected
-   exception, ``{"status": "crashed", "message": ...}`` and exit status 1.
+4. runs the case (:func:`supcoord.study.case_run.run_case`) and writes its measurement
+   (:meth:`~supcoord.study.case_run.Measurement.to_json`) to ``RESULT.json`` (atomically:
+   written beside it, then renamed), or, for an unexpected exception,
+   ``{"status": "crashed", "message": ...}`` and exit status 1.
 """
 
 from __future__ import annotations
@@ -110,15 +111,15 @@ def _run(task: dict, result_path: str) -> int:
     sys.set_int_max_str_digits(0)
     sys.path[:0] = task.get("pythonpath") or []
     try:
-        from .cases import run_case
+        from .case_run import run_case
 
         result = run_case(task["kind"], task["params"], task.get("time_limit"), task.get("memory_limit_mb"))
-    except BaseException as exc:  # noqa: BLE001 (a bug in the case, reported as 'crashed')
+    except BaseException as exc:  # noqa: BLE001 (a bug in the case, or the library not importable: 'crashed')
         lines = traceback.format_exception(exc)
         _write(result_path, {"status": "crashed", "message": f"{type(exc).__name__}: {' '.join(str(exc).split())}"[:500],
                              "extra": {"traceback": "".join(lines)[-2000:]}})
         return 1
-    _write(result_path, result)
+    _write(result_path, result.to_json())
     return 0
 
 

@@ -150,64 +150,132 @@ def run_study(study: Study, database: str | os.PathLike | None = None, *, worker
               scheduler: str | None = None, progress: Callable[[str], None] | None = print,
               version: str | None = None, retry: Iterable[str] = (), any_version: bool = False,
               command: str = "") -> RunSummary:
-    """Run the cases of ``study`` not yet done; see the module docstring.  ``progress``
-    receives one line per finished case (done/failed/total, throughput, time left).
-    ``any_version``: a case recorded by any code version counts (to resume a long study
-    across commits that did not change what it measures; new rows get this version)."""
+    """Run the cases of ``study`` not yet done (small first, each in a process of its own),
+    committing each case's row as it ends, so an interrupted run resumes where it stopped.
+
+    Parameters
+    ----------
+    study : Study
+        The cases, their time limits (s) and memory limits (MB) (:func:`~.spec.load_study`).
+    database : str or path-like, optional
+        The SQLite results database; None: the study's own (``study.database_path()``).
+    workers : int, optional
+        Processes of an embedded Dask cluster; 0: one case after another, here; None: the study's, else 2.
+    scheduler : str, optional
+        An existing Dask scheduler (``"tcp://host:8786"``), whose workers run the same code version.
+    progress : callable, optional
+        Receives one line per finished case (done/failed/total, throughput, time left); None: silent.
+    version : str, optional
+        The code version recorded with each row; None: :func:`~.machine.code_version`.
+    retry : iterable of str
+        Failed statuses whose cases run again (``timeout``, ``out-of-memory``, ``error``, ``crashed``, ``lost``).
+    any_version : bool
+        Count a case recorded by any code version as done (to resume a long study across
+        commits that did not change what it measures; new rows get this version).
+    command : str
+        The command line recorded with the run.
+
+    Returns
+    -------
+    RunSummary
+        Cases pending, run and failed, per status; the wall time (s); whether interrupted.
+
+    Raises
+    ------
+    InputError
+        ``workers`` < 0, a ``retry`` status that is no failure, an unreachable ``scheduler`` or
+        one of another version (``where``: the parameter); a database that is not a study's.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from supcoord.study import study_from_dict
+    >>> study = study_from_dict({"name": "mini", "cases": [{"kind": "call", "function": "math:sqrt", "args": [4]}]})
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     summary = run_study(study, pathlib.Path(tmp) / "r.sqlite", workers=0, progress=None)
+    >>> summary.ran, summary.statuses
+    (1, {'ok': 1})
+
+    References
+    ----------
+    .. [1] M. Rocklin, "Dask: parallel computation with blocked algorithms and task scheduling",
+       SciPy 2015, doi:10.25080/Majora-7b98e3ed-013.
+    """
     version = version or code_version()
     workers = workers if workers is not None else (study.workers if study.workers is not None else DEFAULT_WORKERS)
     if workers < 0:
-        raise InputError(f"must be >= 0, got {workers}", value=workers, where="--workers")
+        raise InputError(f"must be >= 0, got {workers}", value=workers, where="workers")
     path = study.database_path(database)
     with ResultStore(path, inputs=[study.path]) as store:
         unknown = sorted(set(retry) - set(FAILED))
         if unknown:
             raise InputError(f"can only retry failed statuses ({', '.join(FAILED)}), got {unknown[0]!r}",
-                             value=unknown[0], where="--retry")
+                             value=unknown[0], where="retry")
         todo = pending(study, store, version, retry, any_version)
         summary = RunSummary(study.name, str(path), version, len(study.cases), len(todo), workers=workers)
-        found = records(study, store, version, any_version)
-        due = {c.params_key for c in todo}
-        already_failed = sum((found.get(c.params_key) or ("ok",))[0] in FAILED for c in study.cases
-                             if c.params_key not in due)
-        report = StudyProgress(len(study.cases), len(study.cases) - len(todo), progress, already_failed)
+        report = _report(study, store, todo, version, any_version, progress)
         if not todo:
             report.line(f"{study.name}: all {len(study.cases)} cases done ({path})")
             return summary
         summary.run = store.start_run(study=study.name, started=_now(), version=version, machine=machine(),
                                       cpu=cpu_model(), workers=workers, scheduler=scheduler or "", total=len(study.cases),
                                       pending=len(todo), command=command)
-        t0 = time.perf_counter()
-        skips = _Skips(study, store, version, any_version)
-
-        def finish(case: Case, row: dict[str, Any]) -> None:
-            row = _row(case, row, study, version, summary.run)
-            store.record(row)
-            summary.ran += 1
-            summary.statuses[row["status"]] = summary.statuses.get(row["status"], 0) + 1
-            if row["status"] == "crashed" and summary.first_crash is None:
-                summary.first_crash = f"{case.describe()}: {row.get('message') or 'no message'}"[:300]
-            if row["status"] in ("timeout", "out-of-memory"):
-                skips.note(case, row["status"])
-            report.finished(case, row)
-
         report.line(f"{study.name}: {len(todo)} of {len(study.cases)} cases to run on "
                     f"{scheduler or (f'{workers} worker processes' if workers else 'this process, one after another')}"
                     f"; results in {path}")
-        try:
-            with _sigterm_as_interrupt():
-                if workers == 0 and scheduler is None:
-                    _serial(todo, skips, finish, version)
-                else:
-                    _dask(todo, skips, finish, version, workers, scheduler)
-        except KeyboardInterrupt:
-            summary.interrupted = True
-        summary.wall_seconds = time.perf_counter() - t0
-        store.finish_run(summary.run, finished=_now(), ran=summary.ran, failed=summary.failed,
-                         skipped=summary.statuses.get("skipped", 0), wall_seconds=summary.wall_seconds,
-                         ended="interrupted" if summary.interrupted else "finished")
+        _execute(todo, _Recorder(study, store, version, any_version, summary, report), workers, scheduler)
         report.done(summary)
     return summary
+
+
+def _report(study: Study, store: ResultStore, todo: list[Case], version: str, any_version: bool,
+            progress: Callable[[str], None] | None) -> StudyProgress:
+    """The progress lines of a run, counting the failures recorded before it."""
+    found = records(study, store, version, any_version)
+    due = {c.params_key for c in todo}
+    already_failed = sum((found.get(c.params_key) or ("ok",))[0] in FAILED for c in study.cases
+                         if c.params_key not in due)
+    return StudyProgress(len(study.cases), len(study.cases) - len(todo), progress, already_failed)
+
+
+class _Recorder:
+    """Records each finished case of a run: its row in the store, the run's summary, the
+    ``skip_larger`` failures and the progress line."""
+
+    def __init__(self, study: Study, store: ResultStore, version: str, any_version: bool, summary: RunSummary,
+                 report: StudyProgress) -> None:
+        self.study, self.store, self.version, self.summary, self.report = study, store, version, summary, report
+        self.skips = _Skips(study, store, version, any_version)
+
+    def finish(self, case: Case, row: dict[str, Any]) -> None:
+        summary = self.summary
+        row = _row(case, row, self.study, self.version, summary.run)
+        self.store.record(row)
+        summary.ran += 1
+        summary.statuses[row["status"]] = summary.statuses.get(row["status"], 0) + 1
+        if row["status"] == "crashed" and summary.first_crash is None:
+            summary.first_crash = f"{case.describe()}: {row.get('message') or 'no message'}"[:300]
+        if row["status"] in ("timeout", "out-of-memory"):
+            self.skips.note(case, row["status"])
+        self.report.finished(case, row)
+
+
+def _execute(todo: list[Case], recorder: _Recorder, workers: int, scheduler: str | None) -> None:
+    """Run ``todo`` (serially, or on Dask) until done or interrupted, and close the run's record."""
+    summary, version = recorder.summary, recorder.version
+    t0 = time.perf_counter()
+    try:
+        with _sigterm_as_interrupt():
+            if workers == 0 and scheduler is None:
+                _serial(todo, recorder.skips, recorder.finish, version)
+            else:
+                _dask(todo, recorder.skips, recorder.finish, version, workers, scheduler)
+    except KeyboardInterrupt:
+        summary.interrupted = True
+    summary.wall_seconds = time.perf_counter() - t0
+    recorder.store.finish_run(summary.run, finished=_now(), ran=summary.ran, failed=summary.failed,
+                              skipped=summary.statuses.get("skipped", 0), wall_seconds=summary.wall_seconds,
+                              ended="interrupted" if summary.interrupted else "finished")
 
 
 def _now() -> str:
@@ -258,8 +326,8 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
         from distributed import Client, LocalCluster, as_completed
         from distributed.scheduler import KilledWorker
     except ImportError as exc:  # pragma: no cover (a dependency)
-        raise InputError(f"running on Dask needs dask[distributed] ({exc}); or use --workers 0",
-                         value=None, where="--workers") from None
+        raise InputError(f"running on Dask needs dask[distributed] ({exc}); or use workers=0",
+                         value=None, where="workers") from None
     cluster = client = stop = None
     try:
         if scheduler is None:
@@ -275,13 +343,13 @@ def _dask(todo: list[Case], skips: _Skips, finish: Callable, version: str, worke
         try:
             client = Client(cluster if cluster is not None else scheduler, timeout=30)
         except OSError as exc:
-            raise InputError(f"cannot reach the Dask scheduler ({exc})", value=scheduler, where="--scheduler") from None
+            raise InputError(f"cannot reach the Dask scheduler ({exc})", value=scheduler, where="scheduler") from None
         stop = f"supcoord-stop-{uuid.uuid4().hex}"
         if scheduler is not None:
             versions = set(client.run(code_version).values())
             if versions - {version}:
                 raise InputError(f"the cluster's workers run supcoord {', '.join(sorted(versions))}, this process "
-                                 f"{version}: install the same code on both", value=scheduler, where="--scheduler")
+                                 f"{version}: install the same code on both", value=scheduler, where="scheduler")
             workers = max(1, len(client.scheduler_info().get("workers", {})))
         queue = collections.deque(todo)
         running: dict[str, Case] = {}

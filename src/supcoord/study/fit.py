@@ -91,6 +91,28 @@ def _rss(ly: Sequence[float], predicted: Iterable[float]) -> float:
     return sum((a - b) ** 2 for a, b in zip(ly, predicted))
 
 
+def _usable(xs: Sequence[float], ys: Sequence[float]) -> list[tuple[float, float]]:
+    """The ``(x, y)`` pairs with finite numbers and ``y > 0``, in increasing order."""
+    def finite(v: Any) -> bool:
+        return v is not None and math.isfinite(float(v))
+
+    return sorted((float(x), float(y)) for x, y in zip(xs, ys) if finite(x) and finite(y) and y > 0)
+
+
+def _fits(lx: list[float], y: list[float], ly: list[float]) -> dict[str, tuple[float, float]]:
+    """Each model that can fit: model -> (rate, residual sum of squares on ``log10 y``)."""
+    fits: dict[str, tuple[float, float]] = {}
+    b, a = _line(lx, ly)
+    fits["exponential"] = (10**b, _rss(ly, (a + b * x for x in lx)))
+    slope, icpt = _line(lx, y)
+    if all(icpt + slope * x > 0 for x in lx):
+        fits["linear"] = (slope, _rss(ly, (math.log10(icpt + slope * x) for x in lx)))
+    if all(x > 0 for x in lx):
+        k, a = _line([math.log10(x) for x in lx], ly)
+        fits["power"] = (k, _rss(ly, (a + k * math.log10(x) for x in lx)))
+    return fits
+
+
 def fit_growth(xs: Sequence[float], ys: Sequence[float]) -> Growth | None:
     """The model that fits ``ys`` against ``xs`` best by the module's criterion.
 
@@ -106,9 +128,7 @@ def fit_growth(xs: Sequence[float], ys: Sequence[float]) -> Growth | None:
     Growth or None
         None with fewer than three distinct usable sizes.
     """
-    pairs = sorted((float(x), float(y)) for x, y in zip(xs, ys)
-                   if x is not None and y is not None and math.isfinite(float(x)) and math.isfinite(float(y))
-                   and y > 0)
+    pairs = _usable(xs, ys)
     points = len({x for x, _ in pairs})
     if points < 3:
         return None
@@ -116,15 +136,7 @@ def fit_growth(xs: Sequence[float], ys: Sequence[float]) -> Growth | None:
     ly = [math.log10(y) for _, y in pairs]
     my = sum(ly) / len(ly)
     total = sum((y - my) ** 2 for y in ly) or 1e-300
-    fits: dict[str, tuple[float, float]] = {}  # model -> (rate, rss on log10 y)
-    b, a = _line(lx, ly)
-    fits["exponential"] = (10**b, _rss(ly, (a + b * x for x in lx)))
-    slope, icpt = _line(lx, [y for _, y in pairs])
-    if all(icpt + slope * x > 0 for x in lx):
-        fits["linear"] = (slope, _rss(ly, (math.log10(icpt + slope * x) for x in lx)))
-    if all(x > 0 for x in lx):
-        k, a = _line([math.log10(x) for x in lx], ly)
-        fits["power"] = (k, _rss(ly, (a + k * math.log10(x) for x in lx)))
+    fits = _fits(lx, [y for _, y in pairs], ly)
     order = [m for m in ("power", "linear", "exponential") if m in fits]
     best = order[0]
     for model in order[1:]:  # a residual within rounding of zero is no better than another such

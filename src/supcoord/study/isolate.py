@@ -8,7 +8,7 @@ grace period (the library stops cleanly at the limit between two fixpoint iterat
 the kill is for code that cannot be interrupted, such as one long BDD operation).
 
 The **row** it returns (one row of the results database, :mod:`.store`) holds the case's
-measurement (:mod:`.cases`) and how it ran: ``status`` is
+measurement (:mod:`.case_run`) and how it ran: ``status`` is
 
 - ``ok``: an answer (``verdict`` says which);
 - ``timeout``: the library stopped at the time limit, or the process was killed after it;

@@ -5,7 +5,8 @@ in).  The kinds mirror the command line:
 
 - ``paper``: the seed paper's model (:func:`supcoord.paper.run.run_paper`, ``supcoord
   paper``): ``positioners``, ``steps``, ``model``, ``route``, ``seed``, ``semantics``,
-  ``count_transitions``;
+  ``count_transitions``; the routes and the rules of which model and semantics each
+  takes are those of :data:`supcoord.paper.routes.PAPER_ROUTES`;
 - ``solve``: geometric coordination (:func:`supcoord.planning.planner.solve`, ``supcoord
   solve``) of a problem that is ``"random"`` (:func:`supcoord.problems.random.random_problem`:
   ``layout``, ``rings``, ``kinematics``, ``buffer``, ``seed``, ``priority``), ``"preset"``
@@ -35,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..paper.routes import MODELS, ROUTES, SEMANTICS, default_route, route_rule
 
 __all__ = [
     "FAMILY_NAMES",
@@ -54,14 +56,6 @@ REQUIRED = object()
 FAMILY_NAMES = ("dining_philosophers", "small_factories", "coupled_factories", "transfer_line_chain", "machine_line")
 #: :data:`supcoord.synthesis.reachability.METHODS` (checked the same way)
 SUPCON_METHODS = ("bfs", "chaining", "saturation")
-
-
-def default_route(model: str, semantics: str = "preemptive") -> str:
-    """:func:`supcoord.paper.run.default_route`: modular for the literal model; for the
-    coupled model settled under preemptive semantics, else monolithic."""
-    if model == "literal":
-        return "modular"
-    return "settled" if semantics == "preemptive" else "monolithic"
 
 
 # -- checkers: value -> normalized value, or ValueError with the reason ----------------------
@@ -130,8 +124,8 @@ def _function(v: Any) -> str:
 KINDS: dict[str, dict[str, tuple[Callable[[Any], Any], Any]]] = {
     "paper": {
         "positioners": (_int(1), REQUIRED), "steps": (_int(2), REQUIRED),
-        "model": (_choice("literal", "coupled"), "literal"), "route": (_optional(_choice("modular", "monolithic", "settled")), None),
-        "seed": (_int(0), 0), "semantics": (_choice("preemptive", "standard"), "preemptive"),
+        "model": (_choice(*MODELS), "literal"), "route": (_optional(_choice(*ROUTES)), None),
+        "seed": (_int(0), 0), "semantics": (_choice(*SEMANTICS), "preemptive"),
         "count_transitions": (_optional(_bool), None),
     },
     "solve": {
@@ -187,11 +181,9 @@ def _check_combination(kind: str, p: dict[str, Any], where: str, base: Path | No
     if kind == "paper":
         if p["route"] is None:
             p["route"] = default_route(p["model"], p["semantics"])
-        if p["route"] == "modular" and p["model"] != "literal":
-            fail("route", "modular is exact for the literal model only; use route = 'monolithic'")
-        if p["route"] == "settled" and (p["model"] != "coupled" or p["semantics"] != "preemptive"):
-            fail("route", "settled is a route of the coupled model under preemptive semantics; "
-                          "use route = 'monolithic'")
+        rule = route_rule(p["model"], p["route"], p["semantics"])  # the table of supcoord.paper.routes
+        if rule is not None:
+            fail("route", f"{rule}; use route = 'monolithic'")
     elif kind == "solve":
         source = p["problem"]
         if source == "random":

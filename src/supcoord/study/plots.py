@@ -28,6 +28,7 @@ import math
 import os
 import statistics
 from collections.abc import Iterable
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -120,59 +121,88 @@ def _legend_below(ax) -> None:
                   frameon=False)
 
 
+@dataclass
+class _Drawn:
+    """What a panel drew so far: its y values and x values (for the axes' scales), the
+    growth fitted to each series drawn, and the failure labels already in the legend."""
+
+    any: bool = False
+    values: list[float] = field(default_factory=list)
+    xs: list[float] = field(default_factory=list)
+    growths: list[Any] = field(default_factory=list)
+    failed_labels: set[str] = field(default_factory=set)
+
+
+def _draw_medians(ax, rs: list[dict[str, Any]], metric: str, color: str, label: str, xs: list, med: list,
+                  drawn: _Drawn) -> None:
+    """A series' medians as a line, and its single cases where an x has several."""
+    ax.plot(xs, med, "o-", color=color, label=label, ms=4, lw=1.4)
+    by_x: dict[int, list[float]] = {}
+    for r in rs:
+        if r["status"] == "ok" and r.get(metric) is not None and x_of(r) is not None:
+            by_x.setdefault(x_of(r), []).append(float(r[metric]))
+    spread = [(x, v) for x in xs for v in by_x[x] if len(by_x[x]) > 1]
+    if spread:
+        ax.plot([p[0] for p in spread], [p[1] for p in spread], ".", color=color, alpha=0.35, ms=4)
+    drawn.any = True
+    drawn.values += med
+    drawn.xs += xs
+
+
+def _draw_failures(ax, name: str, rs: list[dict[str, Any]], metric: str, color: str, drawn: _Drawn) -> None:
+    """A series' cases that ran out of time (▲) or memory (✕), at the value they reached."""
+    where = "at its limit" if metric == "seconds" else "when it stopped"
+    for status, marker, text in (("timeout", "^", f"{name}: ran out of time (▲ {where})"),
+                                 ("out-of-memory", "X", f"{name}: ran out of memory (✕ {where})")):
+        bad = [(x_of(r), _limit_value(r, metric)) for r in rs if r["status"] == status and x_of(r) is not None]
+        bad = sorted((x, v) for x, v in bad if v)
+        if bad:
+            ax.plot([b[0] for b in bad], [b[1] for b in bad], marker, color=color, mfc="none", ms=8, mew=1.5,
+                    label=text if text not in drawn.failed_labels else None)
+            drawn.failed_labels.add(text)
+            drawn.any = True
+            drawn.values += [b[1] for b in bad]
+            drawn.xs += [b[0] for b in bad]
+
+
+def _scale_axes(ax, drawn: _Drawn) -> None:
+    """Logarithmic axes where the values span a decade or more (x only where most fitted
+    growths are powers)."""
+    positive = [v for v in drawn.values if v and v > 0]
+    if positive and max(positive) / min(positive) >= 10:
+        ax.set_yscale("log")
+        _log_ticks(ax.yaxis, positive)
+    fitted = [g for g in drawn.growths if g is not None]
+    powers = sum(g.model == "power" for g in fitted)
+    xpos = [x for x in drawn.xs if x and x > 0]
+    if xpos and max(xpos) / min(xpos) >= 10 and powers >= len(fitted) - powers:
+        ax.set_xscale("log")
+        _log_ticks(ax.xaxis, xpos)
+
+
 def _draw_metric(ax, rows: list[dict[str, Any]], metric: str, title: str) -> None:
+    """One panel: each series' medians against x with its fitted growth, and its failures."""
     medians = series_medians(rows, metric)
     growth_of = series_growth(rows, metric)
     series: dict[str, list[dict[str, Any]]] = {}
     for r in rows:
         series.setdefault(r["series"], []).append(r)
-    drawn, growths, values, xs_all = False, [], [], []
-    failed_labels: set[str] = set()
+    drawn = _Drawn()
     for i, (name, rs) in enumerate(sorted(series.items())):
         color = f"C{i % 10}"
         xs, med = medians.get(name, ([], []))  # every series in order of its x
         growth = growth_of.get(name)
-        label = name + (f": {growth.label(_unit(rs))}" if growth else "")
         if xs:
-            ax.plot(xs, med, "o-", color=color, label=label, ms=4, lw=1.4)
-            by_x: dict[int, list[float]] = {}
-            for r in rs:
-                if r["status"] == "ok" and r.get(metric) is not None and x_of(r) is not None:
-                    by_x.setdefault(x_of(r), []).append(float(r[metric]))
-            spread = [(x, v) for x in xs for v in by_x[x] if len(by_x[x]) > 1]
-            if spread:
-                ax.plot([p[0] for p in spread], [p[1] for p in spread], ".", color=color, alpha=0.35, ms=4)
-            drawn = True
-            growths.append(growth)
-            values += med
-            xs_all += xs
-        where = "at its limit" if metric == "seconds" else "when it stopped"
-        for status, marker, text in (("timeout", "^", f"{name}: ran out of time (▲ {where})"),
-                                     ("out-of-memory", "X", f"{name}: ran out of memory (✕ {where})")):
-            bad = [(x_of(r), _limit_value(r, metric)) for r in rs if r["status"] == status and x_of(r) is not None]
-            bad = sorted((x, v) for x, v in bad if v)
-            if bad:
-                ax.plot([b[0] for b in bad], [b[1] for b in bad], marker, color=color, mfc="none", ms=8, mew=1.5,
-                        label=text if text not in failed_labels else None)
-                failed_labels.add(text)
-                drawn = True
-                values += [b[1] for b in bad]
-                xs_all += [b[0] for b in bad]
+            label = name + (f": {growth.label(_unit(rs))}" if growth else "")
+            _draw_medians(ax, rs, metric, color, label, xs, med, drawn)
+            drawn.growths.append(growth)
+        _draw_failures(ax, name, rs, metric, color, drawn)
     ax.set_title(title, fontsize=10)
-    if not drawn:
+    if not drawn.any:
         statuses = sorted({r["status"] for r in rows})
         _empty(ax, f"no {METRICS[metric][0]} measured in this group\n({len(rows)} cases: {', '.join(statuses)})")
         return
-    positive = [v for v in values if v and v > 0]
-    if positive and max(positive) / min(positive) >= 10:
-        ax.set_yscale("log")
-        _log_ticks(ax.yaxis, positive)
-    fitted = [g for g in growths if g is not None]
-    powers = sum(g.model == "power" for g in fitted)
-    xpos = [x for x in xs_all if x and x > 0]
-    if xpos and max(xpos) / min(xpos) >= 10 and powers >= len(fitted) - powers:
-        ax.set_xscale("log")
-        _log_ticks(ax.xaxis, xpos)
+    _scale_axes(ax, drawn)
     ax.set_xlabel(_xlabel(rows))
     ax.set_ylabel(METRICS[metric][1])
     ax.grid(alpha=0.3, which="both")

@@ -189,16 +189,8 @@ def study_from_dict(data: dict[str, Any], *, name: str | None = None, path: Path
     workers = data.get("workers")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
         raise InputError("must be an integer >= 0", value=workers, where=f"{where}: workers")
-    database = data.get("database")
-    if database is not None:
-        if not isinstance(database, str) or not database:
-            raise InputError("must be a file name", value=database, where=f"{where}: database")
-        database = Path(database) if base is None or Path(database).is_absolute() else (base / database).resolve()
-    pythonpath = data.get("pythonpath", [])
-    if not isinstance(pythonpath, list) or not all(isinstance(p, str) and p for p in pythonpath):
-        raise InputError("must be a list of folders", value=pythonpath, where=f"{where}: pythonpath")
-    folders = tuple(str((base / p).resolve()) if base is not None and not Path(p).is_absolute() else p
-                    for p in pythonpath)
+    database = _database(data.get("database"), base, where)
+    folders = _pythonpath(data.get("pythonpath", []), base, where)
     cases: list[Case] = []
     seen: set[str] = set()
     for i, block in enumerate(blocks):
@@ -209,6 +201,23 @@ def study_from_dict(data: dict[str, Any], *, name: str | None = None, path: Path
     description = data.get("description", "")
     return Study(study_name, cases, database, description if isinstance(description, str) else "", workers, path,
                  [dict(b) for b in blocks])
+
+
+def _database(database: Any, base: Path | None, where: str) -> Path | None:
+    """The study's ``database`` field: a file name, relative to the study file's folder."""
+    if database is None:
+        return None
+    if not isinstance(database, str) or not database:
+        raise InputError("must be a file name", value=database, where=f"{where}: database")
+    return Path(database) if base is None or Path(database).is_absolute() else (base / database).resolve()
+
+
+def _pythonpath(pythonpath: Any, base: Path | None, where: str) -> tuple[str, ...]:
+    """The study's ``pythonpath`` field: folders, relative to the study file's folder."""
+    if not isinstance(pythonpath, list) or not all(isinstance(p, str) and p for p in pythonpath):
+        raise InputError("must be a list of folders", value=pythonpath, where=f"{where}: pythonpath")
+    return tuple(str((base / p).resolve()) if base is not None and not Path(p).is_absolute() else p
+                 for p in pythonpath)
 
 
 def _expand(block: dict[str, Any], index: int, where: str, base: Path | None, time_limit: float,

@@ -14,7 +14,7 @@ Every drawing uses the same visual language, explained by a legend:
   orange.
 
 :func:`plot_problem` / :func:`save_problem_figure` draw a problem (start and target);
-:mod:`supcoord.figures.plan` draws plans (strip of frames, animated GIF, collision
+:mod:`supcoord.figures.plan_figures` draws plans (strip of frames, animated GIF, collision
 incidents); :mod:`supcoord.figures` exports both.
 """
 

@@ -1,12 +1,14 @@
 """Running one case, in the process that will report it (:mod:`.child` calls it).
 
 :func:`run_case` computes one case of :mod:`.kinds` with the library and returns its
-**measurement**: a dict with ``status`` (``ok``, ``timeout``, ``out-of-memory``,
-``error``), ``message``, ``seconds`` (the computation alone: no interpreter start, no
-imports, no validator), ``bdd_nodes`` (peak live nodes, or the supervisor's node count
-where the library reports that), ``states`` (exact, as text, while it has at most 4000
-digits), ``states_log10``, ``verdict``, ``makespan``, ``lower_bound``, ``positioners``,
-``size`` and ``extra`` (the kind's other numbers: timings, rank, windows, certificate …).
+:class:`Measurement`: ``status`` (``ok``, ``timeout``, ``out-of-memory``, ``error``),
+``message``, ``seconds`` (the computation alone: no interpreter start, no imports, no
+validator), ``bdd_nodes`` (peak live nodes, or the supervisor's node count where the
+library reports that), ``states`` (exact, as text, while it has at most 13,000 bits),
+``states_log10``, ``verdict``, ``makespan``, ``lower_bound``, ``positioners``, ``size``
+and ``extra`` (the kind's other numbers: timings, rank, windows, certificate …).
+:meth:`Measurement.to_json` is what the case's process (:mod:`.child`) hands on to the
+row of the results database.
 
 Budgets: the case's time limit becomes the library's :class:`~supcoord.bdd.budget.Budget`
 timeout, so a long fixpoint stops cleanly between iterations with the statistics so far
@@ -20,17 +22,67 @@ from __future__ import annotations
 import importlib
 import math
 import time
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from ..errors import BudgetExceeded, SupcoordError
 
-__all__ = ["BYTES_PER_NODE", "outcome_of_exception", "run_case"]
+__all__ = ["BYTES_PER_NODE", "Measurement", "outcome_of_exception", "run_case"]
 
 #: bytes per live BDD node assumed for the node budget (supcoord.cli.common.BYTES_PER_NODE)
 BYTES_PER_NODE = 80
 #: the standard measurement fields a ``call`` function's returned dict may set directly
 STANDARD = ("seconds", "bdd_nodes", "states", "states_log10", "verdict", "makespan", "lower_bound", "positioners",
             "size")
+
+
+@dataclass
+class Measurement:
+    """What one case measured (the module docstring says each field); None: not measured.
+
+    Attributes
+    ----------
+    status : str
+        ``ok``, ``timeout``, ``out-of-memory`` or ``error`` (a ``call`` function may name its own).
+    message : str or None
+        Why a case did not end ``ok`` (at most 500 characters).
+    seconds : float or None
+        The computation alone, in seconds.
+    bdd_nodes : int or None
+        BDD nodes (the supervisor's, or the peak of live nodes).
+    states : str or None
+        Exact state count, as decimal text.
+    states_log10 : float or None
+        ``log10`` of the state count.
+    verdict : str or None
+        ``forcible``/``not forcible``, ``empty``/``nonempty``, or the planner's status.
+    makespan, lower_bound : int or None
+        A plan's steps, and the lower bound on them.
+    positioners, size : int or None
+        The case's x in tables and plots.
+    extra : dict
+        The kind's other numbers.
+    """
+
+    status: str = "ok"
+    message: str | None = None
+    seconds: float | None = None
+    bdd_nodes: int | None = None
+    states: str | None = None
+    states_log10: float | None = None
+    verdict: str | None = None
+    makespan: int | None = None
+    lower_bound: int | None = None
+    positioners: int | None = None
+    size: int | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        """The measured fields (None left out) as a JSON object: the case's result file."""
+        out = {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
+        if not self.extra:
+            del out["extra"]
+        return out
 
 
 def _budget(time_limit: float | None, memory_limit_mb: float | None):
@@ -41,6 +93,7 @@ def _budget(time_limit: float | None, memory_limit_mb: float | None):
 
 
 def _count(states: int | None) -> dict[str, Any]:
+    """``states`` and ``states_log10`` of a :class:`Measurement` (text while under 13,000 bits)."""
     if states is None:
         return {}
     log10 = _log10(states) if states > 0 else None
@@ -54,13 +107,11 @@ def _log10(n: int) -> float:
 
 
 def run_case(kind: str, params: dict[str, Any], time_limit: float | None = None,
-             memory_limit_mb: float | None = None) -> dict[str, Any]:
+             memory_limit_mb: float | None = None) -> Measurement:
     """The measurement of one case (module docstring); library errors become a status."""
     budget = _budget(time_limit, memory_limit_mb)
     try:
-        out = {"paper": _paper, "solve": _solve, "supcon": _supcon, "force": _force, "call": _call}[kind](params, budget)
-        out.setdefault("status", "ok")
-        return out
+        return {"paper": _paper, "solve": _solve, "supcon": _supcon, "force": _force, "call": _call}[kind](params, budget)
     except BaseException as exc:
         outcome = outcome_of_exception(exc)
         if outcome is None:
@@ -68,29 +119,29 @@ def run_case(kind: str, params: dict[str, Any], time_limit: float | None = None,
         return outcome
 
 
-def outcome_of_exception(exc: BaseException) -> dict[str, Any] | None:
-    """``{status, message, ...}`` for an exception a case may end with (None: re-raise)."""
+def outcome_of_exception(exc: BaseException) -> Measurement | None:
+    """The measurement of a case that ended with ``exc`` (None: re-raise it)."""
     text = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, BudgetExceeded):
         stats = exc.stats
         status = "out-of-memory" if text.startswith("node budget") else "timeout"
-        return {"status": status, "message": text[:500], "seconds": stats.get("seconds"),
-                "bdd_nodes": stats.get("bdd_nodes"), "extra": {"stage": stats.get("stage")}}
+        return Measurement(status, text[:500], seconds=stats.get("seconds"), bdd_nodes=stats.get("bdd_nodes"),
+                           extra={"stage": stats.get("stage")})
     if isinstance(exc, MemoryError) or (isinstance(exc, (RuntimeError, ValueError)) and (
             "out of memory" in text.lower() or "`NULL` pointer" in text)):
-        return {"status": "out-of-memory", "message": f"{type(exc).__name__}: {text}"[:500]}
+        return Measurement("out-of-memory", f"{type(exc).__name__}: {text}"[:500])
     if isinstance(exc, SupcoordError):
-        return {"status": "error", "message": exc.one_line()[:500]}
+        return Measurement("error", exc.one_line()[:500])
     return None
 
 
 # -- the kinds ----------------------------------------------------------------------------------
 
 
-def _paper(p: dict[str, Any], budget) -> dict[str, Any]:
+def _paper(p: dict[str, Any], budget) -> Measurement:
     """The paper's model by the case's route.  What is measured follows what the route
     builds: the modular and monolithic routes synthesize ``V`` (``bdd_nodes`` is its node
-    count; its states are recorded where the route counted them, ``payload["counted"]``);
+    count; its states are recorded where the route counted them, ``sizes.counted``);
     the settled route builds no ``V`` (``bdd_nodes`` is the peak of live nodes of its
     search, no states; its search's numbers are in ``extra["settled"]``)."""
     from ..bdd.context import Context
@@ -101,16 +152,16 @@ def _paper(p: dict[str, Any], budget) -> dict[str, Any]:
     run = run_paper(p["positioners"], p["steps"], p["model"], p["seed"], p["semantics"], ctx, route=p["route"],
                     count_transitions=p["count_transitions"])
     seconds = time.perf_counter() - t0
-    pay = run.payload
+    pay = run.to_json()  # the extra numbers as supcoord paper --json has them
     extra = {k: pay.get(k) for k in ("route", "rank", "witness_length", "certificate", "timings",
                                      "distinct_components", "settled", "counted")}
     extra["peak_nodes"] = ctx.peak_nodes()
     extra["supervisor_transitions"] = None if pay.get("supervisor_transitions") is None else str(pay["supervisor_transitions"])
-    counted = run.supcon is not None and pay["counted"]
-    nodes = pay["bdd_nodes"] if run.supcon is not None else ctx.peak_nodes()
-    return {"seconds": seconds, "bdd_nodes": nodes, **_count(run.supcon.stats["states"] if counted else None),
-            "verdict": "forcible" if pay["ccc"] else "not forcible", "positioners": pay["positioners"],
-            "size": pay["positioners"], "extra": extra}
+    counted = run.supcon is not None and run.sizes.counted
+    nodes = run.sizes.bdd_nodes if run.supcon is not None else ctx.peak_nodes()
+    n = run.instance.size
+    return Measurement(seconds=seconds, bdd_nodes=nodes, **_count(run.sizes.states if counted else None),
+                       verdict="forcible" if run.forcible else "not forcible", positioners=n, size=n, extra=extra)
 
 
 def problem_of(p: dict[str, Any]):
@@ -134,7 +185,7 @@ def problem_of(p: dict[str, Any]):
     return load_problem(p["problem"])
 
 
-def _solve(p: dict[str, Any], budget) -> dict[str, Any]:
+def _solve(p: dict[str, Any], budget) -> Measurement:
     from ..planning.planner import solve
     from ..problems.validate import validate_plan
 
@@ -144,24 +195,25 @@ def _solve(p: dict[str, Any], budget) -> dict[str, Any]:
         plan = solve(problem, route=p["route"], order=p["order"], budget=budget, validate=False, improve=p["improve"])
     except BudgetExceeded as exc:
         out = outcome_of_exception(exc)
-        out["extra"].update({k: exc.stats.get(k) for k in ("windows", "largest_window")})
-        return {**out, "positioners": problem.n, "size": problem.n}
+        out.extra.update({k: exc.stats.get(k) for k in ("windows", "largest_window")})
+        out.positioners = out.size = problem.n
+        return out
     seconds = time.perf_counter() - t0
     s = plan.stats
     extra = {k: s.get(k) for k in ("windows", "largest_window", "single_moves", "schedule", "improve_seconds")}
-    out = {"seconds": seconds, "bdd_nodes": s.get("bdd_nodes"), "verdict": plan.status, "positioners": problem.n,
-           "size": problem.n, "lower_bound": plan.lower_bound, "extra": extra}
+    out = Measurement(seconds=seconds, bdd_nodes=s.get("bdd_nodes"), verdict=plan.status, positioners=problem.n,
+                      size=problem.n, lower_bound=plan.lower_bound, extra=extra)
     if plan.status == "complete":
-        out["makespan"] = plan.makespan
+        out.makespan = plan.makespan
         if p["validate"]:
             t1 = time.perf_counter()
             result = validate_plan(problem, plan)
             extra.update(valid=result["valid"], validate_seconds=time.perf_counter() - t1)
             if not result["valid"]:
-                out.update(status="error", message=f"the plan fails validation: {result['problems'][:2]}")
+                out.status, out.message = "error", f"the plan fails validation: {result['problems'][:2]}"
     else:
         extra["certificate"] = s.get("certificate")
-        out["message"] = plan.reason[:500]
+        out.message = plan.reason[:500]
     return out
 
 
@@ -175,7 +227,7 @@ def _family(ctx, family: str, size: int, method: str = "saturation"):
     return supcon(G, E, method=method)
 
 
-def _supcon(p: dict[str, Any], budget) -> dict[str, Any]:
+def _supcon(p: dict[str, Any], budget) -> Measurement:
     from ..bdd.context import Context
 
     ctx = Context(budget=budget)
@@ -183,12 +235,12 @@ def _supcon(p: dict[str, Any], budget) -> dict[str, Any]:
     res = _family(ctx, p["family"], p["size"], p["method"])
     seconds = time.perf_counter() - t0
     st = res.stats
-    return {"seconds": seconds, "bdd_nodes": st["bdd_nodes"], **_count(st["states"]), "size": p["size"],
-            "verdict": "empty" if st["states"] == 0 else "nonempty",
-            "extra": {"transitions": str(st["transitions"]), "iterations": st.get("iterations")}}
+    return Measurement(seconds=seconds, bdd_nodes=st["bdd_nodes"], **_count(st["states"]), size=p["size"],
+                       verdict="empty" if st["states"] == 0 else "nonempty",
+                       extra={"transitions": str(st["transitions"]), "iterations": st.get("iterations")})
 
 
-def _force(p: dict[str, Any], budget) -> dict[str, Any]:
+def _force(p: dict[str, Any], budget) -> Measurement:
     from ..bdd.context import Context
     from ..synthesis.ccc import ccc
 
@@ -207,10 +259,10 @@ def _force(p: dict[str, Any], budget) -> dict[str, Any]:
     t1 = time.perf_counter()
     c = ccc(V, p["semantics"], target=target)
     t2 = time.perf_counter()
-    return {"seconds": t2 - t1, "bdd_nodes": c.stats.get("bdd_nodes"), **_count(V.count_states()), "size": p["size"],
-            "verdict": "forcible" if c.forcible else "not forcible",
-            "extra": {"rank": c.rank, "layers": len(c.layers), "setup_seconds": t1 - t0,
-                      "witness_length": len(c.witness)}}
+    return Measurement(seconds=t2 - t1, bdd_nodes=c.stats.get("bdd_nodes"), **_count(V.count_states()),
+                       size=p["size"], verdict="forcible" if c.forcible else "not forcible",
+                       extra={"rank": c.rank, "layers": len(c.layers), "setup_seconds": t1 - t0,
+                              "witness_length": len(c.witness)})
 
 
 def _state(g, text: str) -> int:
@@ -233,7 +285,7 @@ def _accepts(func, name: str) -> bool:
     return name in params or any(q.kind is inspect.Parameter.VAR_KEYWORD for q in params.values())
 
 
-def _call(p: dict[str, Any], budget) -> dict[str, Any]:
+def _call(p: dict[str, Any], budget) -> Measurement:
     module, name = p["function"].split(":")
     try:
         func = getattr(importlib.import_module(module), name)
@@ -247,12 +299,14 @@ def _call(p: dict[str, Any], budget) -> dict[str, Any]:
             kwargs[name] = p[name]
     t0 = time.perf_counter()
     value = func(*p["args"], **kwargs)
-    out: dict[str, Any] = {"seconds": time.perf_counter() - t0, "size": p["size"], "positioners": p["positioners"]}
+    out = Measurement(seconds=time.perf_counter() - t0, size=p["size"], positioners=p["positioners"])
     if isinstance(value, dict):
-        out.update({k: value[k] for k in STANDARD if k in value})
+        for name in STANDARD:
+            if name in value:
+                setattr(out, name, value[name])
         if "status" in value:
-            out["status"] = str(value["status"])
-        out["extra"] = {k: v for k, v in value.items() if k not in STANDARD and k != "status"}
+            out.status = str(value["status"])
+        out.extra = {k: v for k, v in value.items() if k not in STANDARD and k != "status"}
     elif value is not None:
-        out["extra"] = {"result": repr(value)[:500]}
+        out.extra = {"result": repr(value)[:500]}
     return out

@@ -32,7 +32,7 @@ from ..problems.consistency import check_plan, check_problem
 from ..problems.plan import Plan
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice
-from .problem import (
+from .problem_figures import (
     COLORS,
     FIGURE_SUFFIXES,
     _figsize,
