@@ -301,9 +301,9 @@ class _Windows:
         their place in ``c`` at any time, for ``b`` in :data:`DISPLACED` (None: none found).
 
         Robots step aside one or two at a time: a search inside that subgraph stays small
-        where the whole window's does not (the last robot of SDSS-V's APO wok, seed 1,
-        fold: 2 s against 60 s for 17 members).  A failure proves nothing, so the full
-        search follows."""
+        where the whole window's does not (the runs with and without it:
+        benchmarks/results/resolution.md).  A failure proves nothing, so the full search
+        follows."""
         others = [q for q in members if q != p]
         if not others:
             return None
