@@ -41,9 +41,9 @@ from collections import Counter, defaultdict
 from multiprocessing import Pool
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-#: the window route forced on half of the seeds: (levels, greedy)
-FORCED = {"windows A": ((18, 60, 200, None), True), "windows B": ((12, 40, 135, None), False),
-          "windows C": ((30, 300, None), True), "windows D": ((30, 300, None), False)}
+#: the window route forced on half of the seeds: (levels, descent), every conflict component left to the windows
+FORCED = {"windows A": ((18, 60, 200, None), "greedy"), "windows B": ((12, 40, 135, None), "none"),
+          "windows C": ((30, 300, None), "greedy"), "windows D": ((30, 300, None), "none")}
 SETTINGS = ["default", "windows A", "default", "windows B", "default", "windows C", "default", "windows D"]
 CERTIFICATES = {"their conflict component": "conflict component", "this relaxed subproblem": "relaxed subproblem",
                 "no other positioner restricts them": "no blocker"}
@@ -51,35 +51,29 @@ CERTIFICATES = {"their conflict component": "conflict component", "this relaxed 
 CASE_SECONDS = 300
 
 
-def _record_routes(run: set) -> None:
-    """Wrap the window route's steps so that ``run`` collects what a solve went through."""
-    from supcoord.planning import windows
+def _observer(run: set):
+    """A watcher of the window route (its public observer) that collects in ``run`` what a
+    solve went through."""
+    from supcoord.planning.windows import WindowObserver
 
-    grow, whole, descent = windows._Windows.grow, windows._Windows.whole, windows.descent
+    class Watch(WindowObserver):
+        def descended(self, steps):
+            if steps:
+                run.add("descent moved")
 
-    def rec_grow(win, p, c, done, comp, cap):
-        out = grow(win, p, c, done, comp, cap)
-        run.add("window")
-        if out.kind == "solved" and len(out.members) > 1:
-            run.add("grown window solved")
-        if out.kind == "gave_up":
-            run.add("window cap hit")
-        if "descent moved" in run:
-            run.add("descent then windows")
-        return out
+        def window(self, out):
+            run.add("window")
+            if out.kind == "solved" and len(out.members) > 1:
+                run.add("grown window solved")
+            if out.kind == "gave_up":
+                run.add("window cap hit")
+            if "descent moved" in run:
+                run.add("descent then windows")
 
-    def rec_whole(win, comp, c):
-        out = whole(win, comp, c)
-        run.add(f"whole component {out.kind}")
-        return out
+        def whole_component(self, out):
+            run.add(f"whole component {out.kind}")
 
-    def rec_descent(problem, c, check=None):
-        steps, end = descent(problem, c, check=check)
-        if steps:
-            run.add("descent moved")
-        return steps, end
-
-    windows._Windows.grow, windows._Windows.whole, windows.descent = rec_grow, rec_whole, rec_descent
+    return Watch()
 
 
 _RUN: set = set()
@@ -91,7 +85,6 @@ def _init_worker(memory_gib: float, max_product: int) -> None:
     _MAX_PRODUCT[0] = max_product
     limit = int(memory_gib * 2**30)
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-    _record_routes(_RUN)
 
 
 def _alarm(signum, frame):
@@ -100,7 +93,7 @@ def _alarm(signum, frame):
 
 def run_case(seed: int) -> dict:
     """One seed: draw, solve, answer with the oracle, compare (module docstring)."""
-    from supcoord.planning import solve, windows
+    from supcoord.planning import Local, solve
     from supcoord.problems import parse_problem, validate_plan
     from supcoord.testing.oracle import oracle_bounds
     from supcoord.testing.oracle.bfs import Space
@@ -131,15 +124,10 @@ def run_case(seed: int) -> dict:
         _RUN.clear()
         t0 = time.perf_counter()
         if setting == "default":
-            plan = solve(p)
+            plan = solve(p, Local(observer=_observer(_RUN)))
         else:
-            levels, greedy = FORCED[setting]
-            saved = windows.SMALL_COMPONENT
-            windows.SMALL_COMPONENT = 0
-            try:
-                plan = solve(p, levels=levels, greedy=greedy)
-            finally:
-                windows.SMALL_COMPONENT = saved
+            levels, descent = FORCED[setting]
+            plan = solve(p, Local(levels=levels, descent=descent, small_component=0, observer=_observer(_RUN)))
         row["solve_seconds"] = time.perf_counter() - t0
         row["status"] = plan.status
         row["routes"] = sorted(_RUN)

@@ -1,81 +1,70 @@
 """What one ``solve`` does on the window route, recorded for the tests that compare it with the
 independent oracle (``test_planner_oracle.py``, ``test_exact_oracle.py``): the window searches,
-the descents, the certificate's reason — wrapped, not changed — and the forced window settings."""
+the descents, the certificate's reason — watched through the local route's public observer
+(:class:`supcoord.planning.windows.WindowObserver`), not changed — and the forced window settings."""
 
 from __future__ import annotations
 
 from collections import Counter
 
-from supcoord.planning import planner, solve, windows
+from supcoord.planning import solve
+from supcoord.planning.windows import Local, WindowObserver
 
-#: the window route forced: (levels, greedy)
+#: the window route forced: (levels, descent), with every conflict component left to the windows
 FORCED = {
-    "windows A": ((18, 60, 200, None), True),
-    "windows B": ((12, 40, 135, None), False),
-    "windows C": ((30, 300, None), True),
-    "windows D": ((30, 300, None), False),
+    "windows A": ((18, 60, 200, None), "greedy"),
+    "windows B": ((12, 40, 135, None), "none"),
+    "windows C": ((30, 300, None), "greedy"),
+    "windows D": ((30, 300, None), "none"),
 }
 CERTIFICATES = {"their conflict component": "conflict component", "this relaxed subproblem": "relaxed subproblem",
                 "no other positioner restricts them": "no blocker"}
 
 
-class Recorder:
-    """Counts what one ``solve`` does in the window route (wrapped, not changed)."""
+class Recorder(WindowObserver):
+    """Counts what one ``solve`` does in the window route (watched, not changed)."""
 
-    def __init__(self, monkeypatch):
+    def __init__(self, monkeypatch=None):  # monkeypatch: accepted for the callers, nothing is patched
         self.kinds: Counter = Counter()
         self.run: set[str] = set()
         self.few_solved = 0
-        grow, whole, descent = windows._Windows.grow, windows._Windows.whole, windows.descent
-        few = windows._Windows._few_displaced
+        self._by_few = False
 
-        def rec_few(win, *args):
-            out = few(win, *args)
-            if out is not None:
-                self.run.add("few-displaced window solved")
-                self.few_solved += 1
-            return out
+    def descended(self, steps):
+        if steps:
+            self.run.add("descent moved")
 
-        def rec_grow(win, p, c, done, comp, cap):
-            before = self.few_solved
-            out = grow(win, p, c, done, comp, cap)
-            self.run.add("window")
-            if out.kind == "solved" and len(out.members) > 1 and self.few_solved == before:
-                self.run.add("grown window solved")  # by the window's full search
-            if out.kind == "gave_up":
-                self.run.add("window cap hit")
-            if "descent moved" in self.run:
-                self.run.add("descent then windows")
-            return out
+    def few_displaced_solved(self, moves):
+        self.run.add("few-displaced window solved")
+        self.few_solved += 1
+        self._by_few = True
 
-        def rec_whole(win, comp, c):
-            out = whole(win, comp, c)
-            if out.kind == "solved":
-                self.run.add("whole component solved")
-            return out
+    def window(self, outcome):
+        by_few, self._by_few = self._by_few, False
+        self.run.add("window")
+        if outcome.kind == "solved" and len(outcome.members) > 1 and not by_few:
+            self.run.add("grown window solved")  # by the window's full search
+        if outcome.kind == "gave_up":
+            self.run.add("window cap hit")
+        if "descent moved" in self.run:
+            self.run.add("descent then windows")
 
-        def rec_descent(problem, c, check=None):
-            steps, end = descent(problem, c, check=check)
-            if steps:
-                self.run.add("descent moved")
-            return steps, end
+    def whole_component(self, outcome):
+        if outcome.kind == "solved":
+            self.run.add("whole component solved")
 
-        monkeypatch.setattr(windows._Windows, "grow", rec_grow)
-        monkeypatch.setattr(windows._Windows, "whole", rec_whole)
-        monkeypatch.setattr(windows._Windows, "_few_displaced", rec_few)
-        monkeypatch.setattr(windows, "descent", rec_descent)
-        monkeypatch.setattr(planner, "descent", rec_descent)  # the first descents choose the direction
+    def route(self, setting: str) -> Local:
+        """The local route watched by this recorder: the default one, or a :data:`FORCED` one."""
+        if setting == "default":
+            return Local(observer=self)
+        levels, descent = FORCED[setting]
+        return Local(levels=levels, descent=descent, small_component=0, observer=self)
 
     def solve(self, monkeypatch, p, setting: str, **options):
-        """``supcoord.solve(p, **options)`` on the default route or a :data:`FORCED` one."""
+        """``supcoord.solve(p, **options)`` on the default route or a :data:`FORCED` one
+        (``monkeypatch``: accepted for the callers, nothing is patched)."""
         self.run = set()
-        if setting == "default":
-            plan = solve(p, **options)
-        else:
-            levels, greedy = FORCED[setting]
-            with monkeypatch.context() as m:
-                m.setattr(windows, "SMALL_COMPONENT", 0)
-                plan = solve(p, levels=levels, greedy=greedy, **options)
+        plan = solve(p, self.route(setting), **options)
         for how, kind in CERTIFICATES.items():
             if plan.status == "infeasible" and how in plan.reason:
                 self.run.add(f"certificate: {kind}")

@@ -13,6 +13,7 @@ import pytest
 
 import supcoord
 from supcoord.errors import FormatError, InputError
+from supcoord.planning import Local
 from supcoord.problems.problem import parse_problem
 
 pytestmark = pytest.mark.timeout(120)
@@ -65,7 +66,7 @@ def test_a_robot_goes_round_an_obstacle():
     assert not free.unary()
 
 
-@pytest.mark.parametrize("options", [{}, {"greedy": False}, {"route": "monolithic"}, {"improve": 0}])
+@pytest.mark.parametrize("options", [{}, {"route": Local(descent="none")}, {"route": "monolithic"}, {"improve": 0}])
 def test_a_robot_without_neighbours_still_goes_round_an_obstacle(options):
     # 200 mm apart: no neighbour pair, so no pair table carries robot 0's obstacle; the
     # short way round (alpha 0 -> 180 counter-clockwise) passes it
@@ -177,6 +178,6 @@ def test_a_robot_with_an_obstacle_moving_two_joints_across_the_wrap_is_scheduled
     data["layout"]["obstacles"] = [{"xy": [3.0, 14.0], "buffer": 1.0}]
     p = parse_problem(data)
     assert 0 in p.unary()
-    for options in ({"improve": 0, "refine": False}, {}):
+    for options in ({"improve": 0, "finer": None}, {}):
         plan = supcoord.solve(p, **options)
         assert plan.status == "complete" and supcoord.validate_plan(p, plan)["valid"]

@@ -18,6 +18,7 @@ from supcoord.planning.graph_order import conflict_components
 from supcoord.planning.layers import move_layers, witness_moves
 from supcoord.planning.model import CoordinationModel
 from supcoord.planning.planner import solve, solve_window
+from supcoord.planning.routes import Local, Monolithic
 from supcoord.planning.schedule import asap_schedule, plan_from_schedule
 from supcoord.problems import random_problem, validate_plan
 from supcoord.problems.plan import apply_moves
@@ -75,7 +76,7 @@ def test_symbolic_verdict_and_rank_equal_the_oracle(name, seed):
         confs = apply_moves(p, res.moves)
         assert np.array_equal(confs[-1], p.target)
     for route in ("local", "monolithic"):
-        plan = solve(p, route=route, simultaneous=False)  # the oracle's distance is the single-move model's
+        plan = solve(p, route, simultaneous=None)  # the oracle's distance is the single-move model's
         assert plan.status == ("complete" if distance is not None else "infeasible")
         if distance is None:
             assert "positioners" in plan.reason and plan.stats["certificate"]
@@ -130,7 +131,7 @@ def test_priority_breaks_ties():
 def test_local_and_monolithic_agree_on_grids(rings, seed):
     p = random_problem({"kind": "hex", "rings": rings, "pitch": 22.4}, ROT, 2.0, seed=seed)
     local = solve(p)
-    mono = solve(p, route="monolithic", supervisor=rings == 1)
+    mono = solve(p, Monolithic(fixpoint="supervisor" if rings == 1 else "search"))
     assert local.status == mono.status == "complete"
     for plan in (local, mono):
         assert validate_plan(p, plan)["valid"]
@@ -177,6 +178,10 @@ def test_budgets_and_bad_arguments():
     assert info.value.stats["route"] == "local"
     with pytest.raises(InputError):
         solve(p, route="nope")
+    with pytest.raises(InputError):
+        solve(p, Monolithic(fixpoint="nope"))
+    with pytest.raises(InputError):
+        solve(p, Local(descent="nope"))
     with pytest.raises(InputError):
         CoordinationModel(p, order="spiral")
 
@@ -241,7 +246,7 @@ def test_local_route_verdicts_equal_the_oracle(p):
     """Drawn distances may put arms at exactly the buffer sum (15 + 4 = 19 mm): the oracle's
     bounds (ties free, ties blocked) then frame the answer instead of one distance."""
     lo, hi = oracle_bounds(p.to_json())
-    plan = solve(p, simultaneous=False)  # the oracle's bounds are the single-move model's
+    plan = solve(p, simultaneous=None)  # the oracle's bounds are the single-move model's
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:
@@ -369,7 +374,7 @@ def test_timeline_schedule_is_valid_and_never_longer_than_the_sequence(name, see
 
 def test_timeline_schedule_on_a_grid_plan_is_valid_and_shorter_than_asap():
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, AB_SDSS, 2.0, seed=1)
-    plan = solve(p, validate=False)
+    plan = solve(p, validation="none")
     moves = [parse_event_(p, e) for e in plan.events]
     tl, asap = timeline_schedule(p, moves), asap_schedule(p, moves)
     for confs in (tl, asap):
@@ -387,7 +392,7 @@ def parse_event_(p, e):
 def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, seed):
     p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, ROT, 2.0, seed=seed)
     local = solve(p)
-    mono = solve(p, route="monolithic", supervisor=False)
+    mono = solve(p, Monolithic(fixpoint="search"))
     assert local.status == mono.status
     if local.status == "complete":
         assert validate_plan(p, local)["valid"] and validate_plan(p, mono)["valid"]
@@ -402,11 +407,11 @@ def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, 
 
 @pytest.mark.parametrize("pitch,seed", [(17.0, 6), (17.0, 8), (14.0, 6), (14.0, 11)])
 def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
-    """On the problem's own lattice (``refine=False``: both routes decide that model); a plan
+    """On the problem's own lattice (``finer=None``: both routes decide that model); a plan
     the local route then finds on a finer lattice is valid."""
     p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, AB, 2.0, seed=seed)
-    local = solve(p, refine=False)
-    mono = solve(p, route="monolithic", supervisor=False, refine=False)
+    local = solve(p, finer=None)
+    mono = solve(p, Monolithic(fixpoint="search"), finer=None)
     assert local.status == mono.status
     for plan in (local, mono):
         if plan.status == "complete":
@@ -428,7 +433,7 @@ def test_window_caps_never_change_the_verdict(layout, kin, seed, verdict):
     default = solve(p)
     assert default.status == verdict
     for levels in ((50, None),) if verdict == "complete" else ((50, None), (5, 20, None)):  # the grid is slow
-        tiny = solve(p, levels=levels)
+        tiny = solve(p, Local(levels=levels))
         assert tiny.status == verdict
         assert tiny.stats["windows_abandoned"] > 0  # the tiny cap was really hit
         if verdict == "complete":
@@ -438,7 +443,7 @@ def test_window_caps_never_change_the_verdict(layout, kin, seed, verdict):
             assert len(cert) < p.n and oracle_solve(p.to_json(), members=cert) is None
     assert LEVELS[-1] is None
     with pytest.raises(SupcoordError):
-        solve(p, levels=(1000,))
+        solve(p, Local(levels=(1000,)))
 
 
 # -- plan quality: the symbolic optimum and the space-time improvement --------------------------------
@@ -563,7 +568,7 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batch
             data["layout"]["obstacles"] = [{"xy": {94: [9.0, 17.0], 98: [3.0, 14.0]}[seed], "buffer": 1.0}]
         p = parse_problem(data)
         assert bool(p.unary()) == (kind == "obstacle")
-    plan = solve(p, improve=0, refine=False)
+    plan = solve(p, improve=0, finer=None)
     assert plan.status == "complete" and plan.makespan >= 2
     rp = _Replanner(p, [np.asarray(c) for c in plan.configurations], {"replans": 0, "improved": 0})
     if batched:
@@ -586,7 +591,7 @@ def _improved_valid(kind, seed, from_start=False):
     also where the planner solved the exchanged problem and scheduled from the target."""
     kin = ROT if kind == "rot" else AB_SDSS
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, kin, 2.0, seed=seed)
-    plan = solve(p, improve=0, refine=False)
+    plan = solve(p, improve=0, finer=None)
     if from_start:
         plan = plan_from_schedule(p, [parse_event_(p, e) for e in plan.events])
     confs, stats = improve_plan(p, plan.configurations)

@@ -29,7 +29,7 @@ from hypothesis import strategies as st
 from routes import FORCED, Recorder
 from strategies import tight_problems, tight_route
 
-from supcoord.planning import solve
+from supcoord.planning import Monolithic, solve
 from supcoord.problems import parse_problem, validate_plan
 from supcoord.testing.oracle import oracle_bounds, oracle_check_steps, oracle_optimal_makespan, oracle_solve
 from supcoord.testing.oracle.bfs import MAX_STEP_KINDS
@@ -105,7 +105,7 @@ def test_random_tight_problems_agree_with_the_oracle(data, setting):
 @given(data=tight_problems(max_n=3, max_product=5_000), supervisor=st.booleans())
 def test_monolithic_rank_is_the_oracle_distance(data, supervisor):
     p = parse_problem(data)
-    plan = solve(p, route="monolithic", supervisor=supervisor, simultaneous=False)
+    plan = solve(p, Monolithic(fixpoint="supervisor" if supervisor else "search"), simultaneous=None)
     distance = oracle_solve(data)
     assert plan.status == ("complete" if distance is not None else "infeasible")
     if distance is None:
@@ -132,7 +132,7 @@ def test_answers_at_exact_touches_lie_between_the_oracle_bounds(name, seed):
     p = random_problem(np.array(TIES[name], float), {"kind": "rotary", "arm": 15.0, "steps": 12}, 2.0, seed=seed)
     data = p.to_json()
     lo, hi = oracle_bounds(data)
-    plan = solve(p, simultaneous=False)  # the oracle's bounds are those of the single-move model
+    plan = solve(p, simultaneous=None)  # the oracle's bounds are those of the single-move model
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:

@@ -58,7 +58,7 @@ def _finer_data(data: dict) -> dict:
 def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed):
     data = _case(seed)
     p = parse_problem(data)
-    coarse = solve(p, improve=0, refine=False)
+    coarse = solve(p, improve=0, finer=None)
     assert coarse.status == "infeasible" and coarse.stats["certificate_model"] == "single-move"
     assert "refined" not in coarse.stats
     assert oracle_solve(data, members=coarse.stats["certificate"]) is None  # a real single-move certificate

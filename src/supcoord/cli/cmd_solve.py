@@ -24,7 +24,7 @@ from .common import CommandResult, Console, add_problem_argument, budget_from_ar
 
 __all__ = ["HELP", "DESCRIPTION", "EXAMPLE", "BUDGETS", "add_arguments", "run", "figure_suffix", "writable", "FIGURE_SUFFIXES"]
 
-#: what ``--figure`` accepts (the same list as ``supcoord.figures.problem.FIGURE_SUFFIXES``,
+#: what ``--figure`` accepts (the same list as ``supcoord.figures.problem_figures.FIGURE_SUFFIXES``,
 #: repeated here so that a bad name is refused before matplotlib is imported)
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".gif")
 
@@ -118,13 +118,56 @@ def as_option(flag: str) -> Iterator[None]:
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
-    from ..planning.planner import solve
+    """``supcoord solve``: check the outputs before the work, solve, write, and say what was done."""
+    from ..planning.planner import FinerLattice, Simultaneous, solve
+    from ..planning.routes import route_named
     from ..problems.problem import load_problem
 
+    budget = budget_from_args(args)
+    speed, improve, csv, jaeger = _checked_options(args)
+    console.progress("load", {"file": args.problem})
+    problem = load_problem(args.problem)
+    for warning in problem.warnings:
+        console.warn(warning)
+    if any(jaeger.values()):  # the limits refused before the work
+        _check_jaeger_limits(problem, args)
+    plan = solve(problem, route=route_named(args.route, args.order), backend=args.backend, budget=budget,
+                 progress=console.progress, speed=speed, improve=improve,
+                 simultaneous=None if args.single_move_only else Simultaneous(),
+                 finer=None if args.no_refine else FinerLattice())
+    if args.out:
+        with as_option("--out"):
+            plan.dump(args.out, problem)
+    if csv is not None and plan.trajectories is not None:
+        from ..outputs import atomic_write_text
+        from ..problems.trajectory import trajectories_csv
+
+        atomic_write_text(csv, trajectories_csv(plan.trajectories), what="--trajectories-csv")
+    exported = _write_jaeger(problem, plan, args, jaeger)
+    if args.figure:
+        from ..figures.plan_figures import save_plan_figure
+
+        with as_option("--figure"):
+            save_plan_figure(problem, plan, args.figure, progress=console.progress)
+    text = _summary(problem, plan, speed)
+    if args.out:
+        text += f"\nplan written to {args.out}"
+    if csv is not None:
+        text += (f"\ntrajectories written to {csv}" if plan.trajectories is not None
+                 else f"\nno trajectories (the plan is {plan.status}): {csv} not written")
+    text += exported
+    if args.figure:
+        text += f"\nfigure written to {args.figure}"
+    # docs/formats.md: "unknown" (a budget ran out) exits 3, also when the planner returns it as a plan
+    return CommandResult(payload=plan.to_json(problem), text=text, exit_code=3 if plan.status == "unknown" else 0)
+
+
+def _checked_options(args: argparse.Namespace) -> tuple[float | None, int | None, str | None, dict[str, str | None]]:
+    """``--speed``, ``--improve``, ``--trajectories-csv`` and the jaeger files, refused (exit 2)
+    before any work; every output file checked (:func:`writable`) and none named twice."""
     from ..errors import InputError
     from ..problems.trajectory import check_speed
 
-    budget = budget_from_args(args)
     speed = check_speed(getattr(args, "speed", None), "--speed")
     improve = getattr(args, "improve", None)
     if improve is not None and not 0 <= improve <= 10**7:
@@ -149,59 +192,37 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         for other, there in outputs[i + 1:]:
             if path == there:
                 raise InputError(f"{flag} and {other} name the same file", value=str(path), where=flag)
-    console.progress("load", {"file": args.problem})
-    problem = load_problem(args.problem)
-    for warning in problem.warnings:
-        console.warn(warning)
-    if any(jaeger.values()):  # the limits refused before the work
-        from ..problems.jaeger import jaeger_limits
+    return speed, improve, csv, jaeger
 
-        try:
-            jaeger_limits(problem, args.rpm, args.acceleration, args.start_delay)
-        except InputError as exc:
-            flag = {"rpm": "--rpm", "acceleration": "--acceleration", "start_delay_s": "--start-delay"}
-            raise InputError(exc.message, value=exc.value, where=flag.get(str(exc.where), exc.where)) from None
-    plan = solve(problem, route=args.route, order=args.order, backend=args.backend, budget=budget,
-                 progress=console.progress, speed=speed, improve=improve, simultaneous=not args.single_move_only,
-                 refine=not args.no_refine)
-    if args.out:
-        with as_option("--out"):
-            plan.dump(args.out, problem)
-    if csv is not None and plan.trajectories is not None:
-        from ..outputs import atomic_write_text
-        from ..problems.trajectory import trajectories_csv
 
-        atomic_write_text(csv, trajectories_csv(plan.trajectories), what="--trajectories-csv")
-    exported = _write_jaeger(problem, plan, args, jaeger)
-    if args.figure:
-        from ..figures.plan_figures import save_plan_figure
+def _check_jaeger_limits(problem, args: argparse.Namespace) -> None:
+    """The jaeger trajectories' limits refused before the work, named by their flags."""
+    from ..errors import InputError
+    from ..problems.jaeger import jaeger_limits
 
-        with as_option("--figure"):
-            save_plan_figure(problem, plan, args.figure, progress=console.progress)
+    try:
+        jaeger_limits(problem, args.rpm, args.acceleration, args.start_delay)
+    except InputError as exc:
+        flag = {"rpm": "--rpm", "acceleration": "--acceleration", "start_delay_s": "--start-delay"}
+        raise InputError(exc.message, value=exc.value, where=flag.get(str(exc.where), exc.where)) from None
+
+
+def _summary(problem, plan, speed: float | None) -> str:
+    """The answer in words: the plan's size and work, or the verdict and its reason."""
+    if plan.status != "complete":
+        return f"{plan.status.upper()}: {plan.reason}"
     s = plan.stats
-    if plan.status == "complete":
-        text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "
-                + (f"{s.get('single_moves')} single moves, " if s.get("plan_model") != "simultaneous" else
-                   "simultaneous moves (no single-move plan exists), ")
-                + f"{s.get('windows')} symbolic solve(s), "
-                f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
-        if plan.lattice is not None:
-            text += (f"\nplanned on the finer {' × '.join(map(str, plan.lattice))} lattice (the problem's has only a "
-                     f"single-move certificate, positioners {', '.join(map(str, s['refined']['certificate']))})")
-        if plan.motion_time_s is not None:
-            text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"
-    else:
-        text = f"{plan.status.upper()}: {plan.reason}"
-    if args.out:
-        text += f"\nplan written to {args.out}"
-    if csv is not None:
-        text += (f"\ntrajectories written to {csv}" if plan.trajectories is not None
-                 else f"\nno trajectories (the plan is {plan.status}): {csv} not written")
-    text += exported
-    if args.figure:
-        text += f"\nfigure written to {args.figure}"
-    # docs/formats.md: "unknown" (a budget ran out) exits 3, also when the planner returns it as a plan
-    return CommandResult(payload=plan.to_json(problem), text=text, exit_code=3 if plan.status == "unknown" else 0)
+    text = (f"COMPLETE: {problem.n} positioners, makespan {plan.makespan} (lower bound {plan.lower_bound}), "
+            + (f"{s.get('single_moves')} single moves, " if s.get("plan_model") != "simultaneous" else
+               "simultaneous moves (no single-move plan exists), ")
+            + f"{s.get('windows')} symbolic solve(s), "
+            f"{s.get('seconds', 0):.2f} s, peak {s.get('bdd_nodes')} BDD nodes")
+    if plan.lattice is not None:
+        text += (f"\nplanned on the finer {' × '.join(map(str, plan.lattice))} lattice (the problem's has only a "
+                 f"single-move certificate, positioners {', '.join(map(str, s['refined']['certificate']))})")
+    if plan.motion_time_s is not None:
+        text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"
+    return text
 
 
 def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:

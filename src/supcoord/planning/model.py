@@ -52,10 +52,10 @@ from .guards import blocked_column, blocked_table, conflict_graph, table_bdd, va
 
 __all__ = ["CoordinationModel", "GuardedSystem", "GuardedMove"]
 
-#: largest cluster of a merged event relation (:meth:`GuardedSystem.relation`); measured on the
-#: SDSS-V preset of 127 robots (CPU s at 500 / 2000 / 5000): 13 × 7 5.0 / 4.1 / 4.4, 24 × 13
-#: 12.3 / 18.2 / 19.2, 36 × 19 92.8 / 94.3 / 130.8; the APO wok at 13 × 7 alike at 500 and 5000
-#: (a conjunct over the limit is computed and thrown away: fine lattices' guards are ~5000 nodes)
+#: largest cluster of a merged event relation, in BDD nodes (:meth:`GuardedSystem.relation`):
+#: guards are conjoined into one conjunct while it stays at most this size; a guard already
+#: larger stays a conjunct of its own.  The measurements behind the value (500 against 2000 and
+#: 5000) are in benchmarks/results/cluster_nodes.md
 CLUSTER_NODES = 500
 #: pair guards of tables with at least this many entries are renamed from the first guard of
 #: their geometry (:meth:`CoordinationModel.pair_guard`): dd's renaming costs time in the

@@ -95,7 +95,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import InputError, ModelError
 from ..problems.plan import Move
 from ..problems.problem import Problem
 from .descent import descent
@@ -103,8 +103,10 @@ from .graph_order import conflict_components
 from .guards import conflict_graph, is_blocked
 from .model import CoordinationModel
 from .search import WindowBudget, blockers, search, shortest_moves
+from .solve_stats import WindowStats
 
-__all__ = ["solve_local", "apply_moves_from", "LEVELS"]
+__all__ = ["solve_local", "apply_moves_from", "LEVELS", "SMALL_COMPONENT", "DESCENTS", "Local", "LocalResult",
+           "Certificate", "WindowOutcome", "WindowObserver"]
 
 #: node caps of one window's bidirectional search, tried in turn over every stuck positioner;
 #: the last (None) is uncapped, so a round always ends with a move or a verdict
@@ -115,25 +117,103 @@ SMALL_COMPONENT = 100_000
 #: before a window's full search, plans with at most this many members (other than the
 #: positioner being finished) away from their place at once are searched, in turn
 DISPLACED: tuple[int, ...] = (1, 2)
+#: what moves the robots between the windows' rounds: ``"greedy"`` the serialisable greedy
+#: descent (:mod:`.descent`), ``"none"`` nothing (windows only)
+DESCENTS = ("greedy", "none")
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """A certificate of infeasibility: the positioners that cannot all reach their targets
+    even with every other positioner removed, and ``how`` that was shown (in words)."""
+
+    members: list[int]
+    how: str
 
 
 @dataclass
-class _Outcome:
-    kind: str  # "solved" | "infeasible" | "gave_up"
+class WindowOutcome:
+    """What the windows around one positioner gave: ``kind`` ``"solved"`` (its ``moves``),
+    ``"infeasible"`` (``members`` and ``how`` certify it) or ``"gave_up"`` (its node cap was hit;
+    ``region``: the positioners whose positions decided it)."""
+
+    kind: str
     moves: list[Move] = field(default_factory=list)
     members: list[int] = field(default_factory=list)
     how: str = ""
     region: list[int] = field(default_factory=list)
 
 
+class WindowObserver:
+    """Hooks called as the local route works (each does nothing here): subclass it to watch a
+    run, as the tests do to see which parts of the route a problem reaches.  The hooks only
+    watch: what they return is ignored and the run is the same with or without them."""
+
+    def descended(self, steps: list[list[Move]]) -> None:
+        """A greedy descent ended after ``steps`` simultaneous steps (possibly none)."""
+
+    def few_displaced_solved(self, moves: list[Move]) -> None:
+        """A window's search with few members displaced at once found ``moves``."""
+
+    def window(self, outcome: WindowOutcome) -> None:
+        """The windows grown around one stuck positioner ended with ``outcome``."""
+
+    def whole_component(self, outcome: WindowOutcome) -> None:
+        """One exact window over a small conflict component ended with ``outcome``."""
+
+
+@dataclass(frozen=True)
+class Local:
+    """Options of the local route (the default; :func:`solve_local`).
+
+    ``order``: the shared model's variable order (``"rcm"`` or ``"hex"``); ``levels``: the
+    windows' node caps, tried in turn (BDD nodes; the last must be None, uncapped);
+    ``descent``: one of :data:`DESCENTS`; ``small_component``: conflict components of at most
+    this many configurations are solved by one exact window; ``observer``: hooks that watch
+    the run (:class:`WindowObserver`).  No option changes a verdict; they change the work and
+    the plan found."""
+
+    order: str = "rcm"
+    levels: tuple[int | None, ...] = LEVELS
+    descent: str = "greedy"
+    small_component: int = SMALL_COMPONENT
+    observer: WindowObserver | None = None
+
+    name = "local"
+
+    def check(self) -> None:
+        """Refuse options the route cannot run (:class:`~supcoord.errors.InputError`,
+        :class:`~supcoord.errors.ModelError`)."""
+        if self.descent not in DESCENTS:
+            raise InputError(f"unknown descent {self.descent!r} (use {' or '.join(DESCENTS)})", value=self.descent,
+                             where="descent")
+        if not self.levels or self.levels[-1] is not None:
+            raise ModelError("the last window level must be uncapped (None)", value=self.levels)
+
+    def watcher(self) -> WindowObserver:
+        """The observer, or one that does nothing."""
+        return self.observer if self.observer is not None else WindowObserver()
+
+
+@dataclass
+class LocalResult:
+    """The local route's answer: ``moves`` start → target (None: no plan), or the
+    ``certificate`` of infeasibility; ``stats`` the work done."""
+
+    moves: list[Move] | None
+    certificate: Certificate | None
+    stats: WindowStats
+
+
 class _Windows:
     """The exact window searches of one run (fresh BDD manager per window of ≥ 2 members,
     its variables in least-cutwidth order; singletons on the shared model)."""
 
-    def __init__(self, problem: Problem, model: CoordinationModel, stats: dict[str, Any]):
+    def __init__(self, problem: Problem, model: CoordinationModel, stats: WindowStats, observer: WindowObserver):
         self.problem = problem
         self.model = model
         self.stats = stats
+        self.observer = observer
         self.adj = conflict_graph(problem)
 
     def _model(self, members: list[int]) -> CoordinationModel:
@@ -144,16 +224,17 @@ class _Windows:
                                budget=ctx.budget, progress=ctx.progress, guards_from=self.model)
         return wm
 
-    def _count(self, members: list[int]) -> None:
-        self.stats["windows"] += 1
-        self.stats["largest_window"] = max(self.stats["largest_window"], len(members))
-
     def _note_nodes(self, wm: CoordinationModel) -> None:
         if wm is not self.model:
-            self.stats["window_peak_nodes"] = max(self.stats.get("window_peak_nodes", 0), wm.ctx.peak_nodes())
+            self.stats.window_peak_nodes = max(self.stats.window_peak_nodes, wm.ctx.peak_nodes())
 
-    def grow(self, p: int, c: np.ndarray, done: np.ndarray, comp: list[int], cap: int | None) -> _Outcome:
+    def grow(self, p: int, c: np.ndarray, done: np.ndarray, comp: list[int], cap: int | None) -> WindowOutcome:
         """Windows around ``p`` grown by blockers (module docstring), each capped at ``cap`` nodes."""
+        out = self._grow(p, c, done, comp, cap)
+        self.observer.window(out)
+        return out
+
+    def _grow(self, p: int, c: np.ndarray, done: np.ndarray, comp: list[int], cap: int | None) -> WindowOutcome:
         problem, stats = self.problem, self.stats
         members = [p]
         while True:
@@ -161,50 +242,58 @@ class _Windows:
             S = wm.system(members, c, init=c, merged=True)
             finished = [q for q in members if q == p or done[q]]
             goal = wm.state(finished, problem.target) & S.invariant  # D(S)
-            self._count(members)
+            stats.count_window(len(members))
             bounded = self._few_displaced(wm, S, goal, p, members, c, cap)
             if bounded is not None:
                 self._note_nodes(wm)
-                return _Outcome("solved", moves=bounded, members=members)
+                return WindowOutcome("solved", moves=bounded, members=members)
             try:
                 res = search(S, goal, max_nodes=cap)
             except WindowBudget:
                 self._note_nodes(wm)
-                stats["windows_abandoned"] += 1
-                return _Outcome("gave_up", region=self._region(members))
+                stats.windows_abandoned += 1
+                return WindowOutcome("gave_up", region=self._region(members))
             if res.distance is not None:
                 moves = shortest_moves(S, res, c)
                 self._note_nodes(wm)
-                key = str(len(members))
-                stats["window_sizes"][key] = stats["window_sizes"].get(key, 0) + 1
-                return _Outcome("solved", moves=moves, members=members)
+                stats.count_solved(len(members))
+                return WindowOutcome("solved", moves=moves, members=members)
             if len(members) == len(comp):
-                return _Outcome("infeasible", members=comp, how="exhaustive symbolic search of their conflict component")
-            # grow by the outsiders in the way of one relaxed shortest path (M*'s rule),
-            # or by every blocker when the relaxed search is too large
-            R = wm.system(members, None, init=c, merged=True)
-            relaxed = None
-            if len(members) > 1:
-                stats["relaxed_checks"] += 1
-            try:
-                relaxed = search(R, goal & R.invariant, max_nodes=cap)
-            except WindowBudget:
-                pass
-            if relaxed is not None and relaxed.distance is None:
-                return _Outcome("infeasible", members=members, how="exhaustive symbolic search of this relaxed "
-                                                                    "subproblem")
-            if relaxed is not None:
-                found = path_blockers(problem, shortest_moves(R, relaxed, c), c, set(members))
-                if not found:  # the relaxed path would be a path of C(S, c), which has none
-                    raise ModelError("a relaxed path that no outsider blocks, yet the window failed", value=members)
-            else:
-                found = blockers(S, res.closed, c)
-                if not found:  # point 3 of the module docstring
-                    return _Outcome("infeasible", members=members,
-                                    how="their reachable configurations were computed exactly and no other "
-                                        "positioner restricts them")
+                return WindowOutcome("infeasible", members=comp,
+                                     how="exhaustive symbolic search of their conflict component")
+            found = self._blockers(wm, S, res, goal, members, c, cap)
+            if isinstance(found, WindowOutcome):
+                return found
             self._note_nodes(wm)
             members = sorted(set(members) | set(found))
+
+    def _blockers(self, wm: CoordinationModel, S: Any, res: Any, goal: Any, members: list[int], c: np.ndarray,
+                  cap: int | None) -> list[int] | WindowOutcome:
+        """The outsiders in the way of one relaxed shortest path (M*'s rule), or every blocker
+        of the closed side of ``res`` when the relaxed search is too large; an infeasible
+        outcome where the relaxation proves it (points 2 and 3 of the module docstring)."""
+        R = wm.system(members, None, init=c, merged=True)
+        relaxed = None
+        if len(members) > 1:
+            self.stats.relaxed_checks += 1
+        try:
+            relaxed = search(R, goal & R.invariant, max_nodes=cap)
+        except WindowBudget:
+            pass
+        if relaxed is not None and relaxed.distance is None:
+            return WindowOutcome("infeasible", members=members,
+                                 how="exhaustive symbolic search of this relaxed subproblem")
+        if relaxed is not None:
+            found = path_blockers(self.problem, shortest_moves(R, relaxed, c), c, set(members))
+            if not found:  # the relaxed path would be a path of C(S, c), which has none
+                raise ModelError("a relaxed path that no outsider blocks, yet the window failed", value=members)
+            return found
+        found = blockers(S, res.closed, c)
+        if not found:  # point 3 of the module docstring
+            return WindowOutcome("infeasible", members=members,
+                                 how="their reachable configurations were computed exactly and no other "
+                                     "positioner restricts them")
+        return found
 
     def _few_displaced(self, wm: CoordinationModel, S: Any, goal: Any, p: int, members: list[int], c: np.ndarray,
                        cap: int | None) -> list[Move] | None:
@@ -212,9 +301,9 @@ class _Windows:
         their place in ``c`` at any time, for ``b`` in :data:`DISPLACED` (None: none found).
 
         Robots step aside one or two at a time: a search inside that subgraph stays small
-        where the whole window's does not (the last robot of SDSS-V's APO wok, seed 1,
-        fold: 2 s against 60 s for 17 members).  A failure proves nothing, so the full
-        search follows."""
+        where the whole window's does not (the runs with and without it:
+        benchmarks/results/resolution.md).  A failure proves nothing, so the full search
+        follows."""
         others = [q for q in members if q != p]
         if not others:
             return None
@@ -227,22 +316,27 @@ class _Windows:
             except WindowBudget:
                 return None
             if res.distance is not None:
-                self.stats["windows_few_displaced"] = self.stats.get("windows_few_displaced", 0) + 1
-                key = str(len(members))
-                self.stats["window_sizes"][key] = self.stats["window_sizes"].get(key, 0) + 1
-                return shortest_moves(R, res, c)
+                self.stats.windows_few_displaced += 1
+                self.stats.count_solved(len(members))
+                moves = shortest_moves(R, res, c)
+                self.observer.few_displaced_solved(moves)
+                return moves
         return None
 
-    def whole(self, comp: list[int], c: np.ndarray) -> _Outcome:
+    def whole(self, comp: list[int], c: np.ndarray) -> WindowOutcome:
         """One exact window over a whole conflict component (point 4 of the module docstring)."""
         wm = self._model(comp)
         S = wm.system(comp, c, init=c, merged=True)
-        self._count(comp)
+        self.stats.count_window(len(comp))
         res = search(S, S.marked)
         self._note_nodes(wm)
         if res.distance is None:
-            return _Outcome("infeasible", members=comp, how="exhaustive symbolic search of their conflict component")
-        return _Outcome("solved", moves=shortest_moves(S, res, c), members=comp)
+            out = WindowOutcome("infeasible", members=comp,
+                                how="exhaustive symbolic search of their conflict component")
+        else:
+            out = WindowOutcome("solved", moves=shortest_moves(S, res, c), members=comp)
+        self.observer.whole_component(out)
+        return out
 
     def _region(self, members: list[int]) -> list[int]:
         """``S ∪ N(S)``: the positioners whose positions decide the windows' outcome."""
@@ -252,76 +346,127 @@ class _Windows:
         return sorted(out)
 
 
-def solve_local(problem: Problem, model: CoordinationModel, stats: dict[str, Any], *, greedy: bool = True,
-                levels: tuple[int | None, ...] = LEVELS,
-                descended: tuple[list, np.ndarray] | None = None) -> tuple[list[Move] | None, Any]:
-    """``(moves, None)`` with a move sequence start → target, or ``(None, (S, how))``.
+class _Run:
+    """One run of the local route: the current configuration ``c``, the moves so far, and the
+    give-ups remembered per positioner (module docstring)."""
 
-    ``greedy=False`` skips the descent (windows only); ``levels`` are the window node
-    caps (the last must be None); ``descended``: the descent from the start, already
-    computed (:func:`.descent.descent`'s ``(steps, end)``).  Windows never compute
-    ``supcon``: every event is controllable and the specification trivial."""
-    if not levels or levels[-1] is not None:
-        raise ModelError("the last window level must be uncapped (None)", value=levels)
-    c = problem.start.copy()
-    moves: list[Move] = []
-    comps = conflict_components(problem)
-    comp_of = {p: i for i, k in enumerate(comps) for p in k}
-    stats.update(components=len(comps), largest_component=max((len(k) for k in comps), default=0), windows=0,
-                 largest_window=0, window_sizes={}, relaxed_checks=0, windows_abandoned=0, descent_steps=0,
-                 descent_moves=0, at_target=int(problem.at_target(c).sum()))
-    by_priority = sorted(range(problem.n), key=lambda p: (problem.priority[p], p))
-    win = _Windows(problem, model, stats)
-    for comp in comps:  # small components: one exact window, a shortest single-move plan
-        if len(comp) > 1 and problem.kinematics.n_positions ** len(comp) <= SMALL_COMPONENT:
-            out = win.whole(comp, c)
-            if out.kind == "infeasible":
-                return None, (out.members, out.how)
-            moves.extend(out.moves)
-            c = apply_moves_from(problem, c, out.moves)
-    memo: dict[int, tuple[int, list[int], np.ndarray]] = {}  # p -> (level, region, c[region]) of a give-up
-    while True:
-        if greedy:
-            if descended is not None and np.array_equal(c, problem.start):
-                steps, c = descended[0], descended[1].copy()
-            else:
-                steps, c = descent(problem, c, check=model.ctx.check_budget)
-            descended = None
-            stats["descent_steps"] += len(steps)
-            for step in steps:
-                moves.extend(step)
-                stats["descent_moves"] += len(step)
-        done = problem.at_target(c)
-        stats["at_target"] = int(done.sum())
-        if done.all():
-            return moves, None
-        # a round: every stuck positioner once at the cheapest level; windows solved one
-        # after another from the current configuration (no descent in between, so that
-        # distant windows stay independent and the schedule runs them in parallel)
-        progress = False
-        for li, cap in enumerate(levels):
-            for p in [q for q in by_priority if not done[q]]:
+    def __init__(self, problem: Problem, model: CoordinationModel, options: Local, stats: WindowStats):
+        self.problem = problem
+        self.model = model
+        self.options = options
+        self.stats = stats
+        self.observer = options.watcher()
+        self.win = _Windows(problem, model, stats, self.observer)
+        self.c = problem.start.copy()
+        self.moves: list[Move] = []
+        self.comps = conflict_components(problem)
+        self.comp_of = {p: i for i, k in enumerate(self.comps) for p in k}
+        self.by_priority = sorted(range(problem.n), key=lambda p: (problem.priority[p], p))
+        self.memo: dict[int, tuple[int, list[int], np.ndarray]] = {}  # p -> (level, region, c[region]) of a give-up
+
+    def apply(self, moves: list[Move]) -> None:
+        self.moves.extend(moves)
+        self.c = apply_moves_from(self.problem, self.c, moves)
+
+    def small_components(self) -> Certificate | None:
+        """Each small conflict component solved by one exact window (a shortest single-move
+        plan); the certificate of the first infeasible one."""
+        n_positions = self.problem.kinematics.n_positions
+        for comp in self.comps:
+            if len(comp) > 1 and n_positions ** len(comp) <= self.options.small_component:
+                out = self.win.whole(comp, self.c)
+                if out.kind == "infeasible":
+                    return Certificate(out.members, out.how)
+                self.apply(out.moves)
+        return None
+
+    def descend(self, descended: tuple[list, np.ndarray] | None) -> None:
+        """The greedy descent from ``c`` (``descended``: the one from the start, already run)."""
+        if descended is not None and np.array_equal(self.c, self.problem.start):
+            steps, self.c = descended[0], descended[1].copy()
+        else:
+            steps, self.c = descent(self.problem, self.c, check=self.model.ctx.check_budget)
+            self.observer.descended(steps)
+        self.stats.descent_steps += len(steps)
+        for step in steps:
+            self.moves.extend(step)
+            self.stats.descent_moves += len(step)
+
+    def round(self) -> Certificate | None:
+        """Every stuck positioner once at the cheapest level; windows solved one after another
+        from the current configuration (no descent in between, so that distant windows stay
+        independent and the schedule runs them in parallel).  A success at a dear level ends
+        the round at once; the certificate of an infeasible window."""
+        done = self.problem.at_target(self.c)
+        for li, cap in enumerate(self.options.levels):
+            progress = False
+            for p in [q for q in self.by_priority if not done[q]]:
                 if done[p]:
                     continue  # finished by an earlier window of this round
-                m = memo.get(p)
-                if m is not None and m[0] >= li and np.array_equal(c[m[1]], m[2]):
+                m = self.memo.get(p)
+                if m is not None and m[0] >= li and np.array_equal(self.c[m[1]], m[2]):
                     continue  # same neighbourhood, same cap: the same give-up
-                out = win.grow(p, c, done, comps[comp_of[p]], cap)
+                out = self.win.grow(p, self.c, done, self.comps[self.comp_of[p]], cap)
                 if out.kind == "infeasible":
-                    return None, (out.members, out.how)
+                    return Certificate(out.members, out.how)
                 if out.kind == "gave_up":
-                    memo[p] = (li, out.region, c[out.region].copy())
+                    self.memo[p] = (li, out.region, self.c[out.region].copy())
                     continue
-                moves.extend(out.moves)
-                c = apply_moves_from(problem, c, out.moves)
-                done = problem.at_target(c)
+                self.apply(out.moves)
+                done = self.problem.at_target(self.c)
                 progress = True
                 if li > 0:
                     break  # an expensive success: back to the descent and the cheap level
             if progress:
-                break
-        if not progress:  # cannot happen: the last level is uncapped
-            raise ModelError("no window concluded at the uncapped level", value=int((~done).sum()))
+                return None
+        # cannot happen: the last level is uncapped
+        raise ModelError("no window concluded at the uncapped level", value=int((~done).sum()))
+
+
+def solve_local(problem: Problem, model: CoordinationModel, options: Local = Local(), *,
+                descended: tuple[list, np.ndarray] | None = None, stats: WindowStats | None = None) -> LocalResult:
+    """The local route: a move sequence start → target, or a certificate of infeasibility.
+
+    Parameters
+    ----------
+    problem, model : Problem, CoordinationModel
+        The problem and its guarded model (the shared manager of the singleton windows).
+    options : Local
+        The route's options (node caps, descent, small components, observer).
+    descended : (steps, end), optional
+        The greedy descent from the start, already computed (:func:`.descent.descent`).
+    stats : WindowStats, optional
+        Filled in as the run goes (so that a budget that runs out still reports the work).
+
+    Returns
+    -------
+    LocalResult
+        ``moves`` (None: infeasible), ``certificate`` (None: a plan) and ``stats``.
+
+    Raises
+    ------
+    ModelError
+        Node caps whose last level is not uncapped.
+    BudgetExceeded
+        The model's budget ran out.
+
+    Windows never compute ``supcon``: every event is controllable and the specification
+    trivial."""
+    options.check()
+    stats = WindowStats() if stats is None else stats
+    run = _Run(problem, model, options, stats)
+    stats.begin(len(run.comps), max((len(k) for k in run.comps), default=0), int(problem.at_target(run.c).sum()))
+    certificate = run.small_components()
+    while certificate is None:
+        if options.descent == "greedy":
+            run.descend(descended)
+            descended = None
+        done = problem.at_target(run.c)
+        stats.at_target = int(done.sum())
+        if done.all():
+            return LocalResult(run.moves, None, stats)
+        certificate = run.round()
+    return LocalResult(None, certificate, stats)
 
 
 def path_blockers(problem: Problem, moves: list[Move], c: np.ndarray, members: set[int]) -> list[int]:

@@ -187,12 +187,14 @@ def problem_of(p: dict[str, Any]):
 
 def _solve(p: dict[str, Any], budget) -> Measurement:
     from ..planning.planner import solve
+    from ..planning.routes import route_named
     from ..problems.validate import validate_plan
 
     problem = problem_of(p)
     t0 = time.perf_counter()
     try:
-        plan = solve(problem, route=p["route"], order=p["order"], budget=budget, validate=False, improve=p["improve"])
+        plan = solve(problem, route_named(p["route"], p["order"]), budget=budget, validation="none",
+                     improve=p["improve"])
     except BudgetExceeded as exc:
         out = outcome_of_exception(exc)
         out.extra.update({k: exc.stats.get(k) for k in ("windows", "largest_window")})
