@@ -37,6 +37,7 @@ References
 
 from __future__ import annotations
 
+import weakref
 from math import cos, sin, sqrt
 from typing import Sequence
 
@@ -79,11 +80,18 @@ class ChainGeometry:
         return out
 
 
+#: :func:`chain_geometry`'s results by ``id`` of their kinematics object, each dropped when
+#: the object is collected (:func:`weakref.finalize`; kinematics compare by value and are
+#: not hashable, and nothing is written onto them)
+_CHAINS: dict[int, ChainGeometry] = {}
+
+
 def chain_geometry(kin: Kinematics) -> ChainGeometry:
-    """The :class:`ChainGeometry` of ``kin``, made once per kinematics object."""
-    geo = kin.__dict__.get("_chain_geometry")
+    """The :class:`ChainGeometry` of ``kin``, made once per kinematics object (held here, not on ``kin``)."""
+    geo = _CHAINS.get(id(kin))
     if geo is None:
-        geo = kin.__dict__["_chain_geometry"] = ChainGeometry(kin)
+        geo = _CHAINS[id(kin)] = ChainGeometry(kin)
+        weakref.finalize(kin, _CHAINS.pop, id(kin), None)
     return geo
 
 
