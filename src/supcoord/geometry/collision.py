@@ -236,7 +236,24 @@ class CollisionTables:
 
     def swept_entry(self, pair: Pair, mover: Mover, move: MoveIndex, at_a: Position, at_b: Position) -> bool:
         """``swept(pair, mover)[move, at_a, at_b]``, read from the bits (no table unpacked); a
-        lazy table's entry is decided on its own (:meth:`swept_entries`) unless the table is stored."""
+        lazy table's entry is decided on its own (:meth:`swept_entries`) unless the table is stored.
+
+        Parameters
+        ----------
+        pair : Pair
+            The neighbour pair (index into :attr:`pairs`).
+        mover : Mover
+            The member moving (0: ``a``, 1: ``b``).
+        move : MoveIndex
+            The move (index into the mover's ``moves()``).
+        at_a, at_b : Position
+            Flat positions of ``a`` and of ``b``.
+
+        Returns
+        -------
+        bool
+            True: the move collides.
+        """
         if self.lazy and self._stored_swept(pair, mover) is None:
             return bool(self._decide_entries(pair, mover, move, at_a, at_b)[0])
         key, mirrored = self._swept_key(pair, mover)

@@ -116,9 +116,23 @@ def _stored(problem: Problem, pair: Pair, mover: Mover) -> tuple[PackedTables, t
 
 
 def blocked_bits(problem: Problem, pair: Pair, mover: Mover) -> NDArray[np.uint8]:
-    """:func:`blocked_table` bit-packed on its last axis (read-only): ``B[move, mover_at,
-    other_at]`` is bit ``7 − other_at % 8`` of byte ``[move, mover_at, other_at // 8]``
-    (:meth:`PackedTables.packed`)."""
+    """:func:`blocked_table` bit-packed on its last axis (:meth:`PackedTables.packed`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+
+    Returns
+    -------
+    numpy.ndarray of uint8
+        Read-only; ``B[move, mover_at, other_at]`` is bit ``7 − other_at % 8`` of byte
+        ``[move, mover_at, other_at // 8]``.
+    """
     store, key = _stored(problem, pair, mover)
     return store.packed(key)
 
@@ -131,7 +145,33 @@ def _lazy(problem: Problem, pair: Pair, mover: Mover) -> bool:
 def blocked_entry(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, mover_at: Position,
                   other_at: Position) -> bool:
     """``B[move, mover_at, other_at]`` of :func:`blocked_table`, read from the bits (lazy
-    tables: decided on its own and remembered, :func:`blocked_entries`)."""
+    tables: decided on its own and remembered, :func:`blocked_entries`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+    move : MoveIndex
+        The move (index into ``problem.kinematics.moves()``).
+    mover_at, other_at : Position
+        Flat positions of the mover and of the other, standing.
+
+    Returns
+    -------
+    bool
+        True: the move is blocked.
+
+    Examples
+    --------
+    >>> from supcoord.problems.presets import preset_problem
+    >>> problem = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5)
+    >>> blocked_entry(problem, 0, Mover.A, 0, 3, 5) == bool(blocked_table(problem, 0, Mover.A)[0, 3, 5])
+    True
+    """
     if _lazy(problem, pair, mover):
         return bool(blocked_entries(problem, pair, mover, move, mover_at, other_at)[0])
     store, key = _stored(problem, pair, mover)
@@ -141,7 +181,26 @@ def blocked_entry(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, m
 def blocked_column(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, other_at: Position) -> Flags:
     """``B[move, :, other_at]`` of :func:`blocked_table`: the mover's positions from which
     ``move`` is blocked by the other standing at ``other_at``; read from the bits (lazy
-    tables: from two lines of the swept table, :meth:`CollisionTables.swept_line`)."""
+    tables: from two lines of the swept table, :meth:`CollisionTables.swept_line`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+    move : MoveIndex
+        The move (index into ``problem.kinematics.moves()``).
+    other_at : Position
+        Flat position of the other member, standing.
+
+    Returns
+    -------
+    Flags
+        One Boolean per flat position of the mover (True: blocked from there).
+    """
     if _lazy(problem, pair, mover):
         tables, kin = problem.tables(), problem.kinematics
         joint, delta = kin.moves()[move]
@@ -260,8 +319,19 @@ class BlockedLookup(Protocol):
 
 
 def blocked_lookup(problem: Problem) -> BlockedLookup:
-    """``lookup(pair, mover, move, mover_at, other_at)``: the remembered lazy entry of
-    :func:`blocked_entries`, None if not decided yet (a reader's fast path: no arrays)."""
+    """The reader of the entries :func:`blocked_entries` remembered: a reader's fast path, no arrays.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+
+    Returns
+    -------
+    BlockedLookup
+        ``lookup(pair, mover, move, mover_at, other_at)``: the remembered entry, None if it
+        is not decided yet.
+    """
     held = _entry_cache(problem)
     cache, code, n_pos = held.hits, held.code, held.n_pos
     return lambda pair, mover, move, mover_at, other_at: cache.get(code(pair, mover) + (move * n_pos + mover_at)
