@@ -8,6 +8,7 @@ import gc
 import numpy as np
 import pytest
 
+from supcoord.geometry import chain_motion
 from supcoord.geometry.chain_motion import chain_geometry
 from supcoord.geometry.collision import CollisionTables
 from supcoord.geometry.table_index import Mover
@@ -61,8 +62,11 @@ def test_one_cache_per_tables_shared_by_copies_and_dropped_with_them():
     assert caches_for(problem) is cache
     assert caches_for(exchanged(problem)) is cache  # same tables, another start and target
     assert conflict_graph(exchanged(problem)) is conflict_graph(problem)
-    other = _problem(seed=1)
+    other = _lazy(_problem(seed=1))
     assert caches_for(other) is not cache
+    conflict_graph(other)
+    blocked_entries(other, 0, Mover.B, 0, 0, 0)  # every kind of cache filled
+    assert blocked_lookup(other)(0, Mover.B, 0, 0, 0) is not None
     key = id(other.tables())
     assert key in caches._CACHES
     del other
@@ -70,12 +74,20 @@ def test_one_cache_per_tables_shared_by_copies_and_dropped_with_them():
     assert key not in caches._CACHES  # gone with its tables
 
 
-def test_chain_geometry_is_held_per_kinematics_object():
+@pytest.mark.timeout(30)
+def test_chain_geometry_is_held_per_kinematics_object_and_dropped_with_it():
     problem = _problem()
     kin = problem.kinematics
     geo = chain_geometry(kin)
     assert chain_geometry(kin) is geo and geo.kin is kin
     assert "_chain_geometry" not in vars(kin)
+    other = _problem(seed=3).kinematics
+    chain_geometry(other)
+    key = id(other)
+    assert key in chain_motion._CHAINS
+    del other
+    gc.collect()
+    assert key not in chain_motion._CHAINS  # gone with its kinematics
 
 
 def test_geometry_key_is_the_tables_public_key():

@@ -10,7 +10,8 @@ with its tables:
 
 - a problem and its copies with another start or target (``problems.plan.exchanged``)
   share one cache, as they share their tables;
-- the cache goes when the tables go (no reference from here keeps a problem alive);
+- the cache goes when the tables go (nothing in a cache refers to a problem or its tables,
+  which would keep them alive);
 - nothing is written onto the :class:`~supcoord.problems.problem.Problem`.
 
 :func:`caches_for` is the one way in; the functions of :mod:`.guards`, :mod:`.descent` and
@@ -41,29 +42,30 @@ BLOCKED_CACHE_BYTES = 256 * 2**20
 
 class BlockedEntryCache:
     """Remembered blocked entries of lazy tables, one integer key per entry:
-    ``code(pair, mover) + (move · P + mover_at) · P + other_at`` with ``P`` positions
-    (pairs of equal geometry share a code, :meth:`Problem.pair_geometry_key`).
+    ``code(problem, pair, mover) + (move · P + mover_at) · P + other_at`` with ``P`` positions
+    (pairs of equal geometry share a code, :meth:`Problem.pair_geometry_key`).  It holds no
+    reference to a problem or its tables (which would keep them, and so the cache, alive).
 
     Parameters
     ----------
-    problem : Problem
-        Any problem of the geometry (its pairs and kinematics are read).
+    n_positions : int
+        Positions of one robot (``P``).
+    n_moves : int
+        Moves of one robot.
     """
 
-    def __init__(self, problem: Problem):
-        kin = problem.kinematics
-        self.problem = problem
-        self.n_pos = kin.n_positions
-        self.span = len(kin.moves()) * self.n_pos ** 2
+    def __init__(self, n_positions: int, n_moves: int):
+        self.n_pos = n_positions
+        self.span = n_moves * n_positions ** 2
         self.hits: dict[int, bool] = {}
         self._geometry: dict[tuple, int] = {}
         self._codes: dict[tuple[int, int], int] = {}
 
-    def code(self, pair: int, mover: int) -> int:
-        """The key offset of pair ``pair``'s blocked table with mover ``mover``."""
+    def code(self, problem: Problem, pair: int, mover: int) -> int:
+        """The key offset of pair ``pair``'s blocked table with mover ``mover`` in ``problem``."""
         out = self._codes.get((pair, mover))
         if out is None:
-            g = self._geometry.setdefault(self.problem.pair_geometry_key(pair) + (mover,), len(self._geometry))
+            g = self._geometry.setdefault(problem.pair_geometry_key(pair) + (mover,), len(self._geometry))
             out = self._codes[pair, mover] = g * self.span
         return out
 

@@ -219,7 +219,8 @@ def blocked_column(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, 
 def _entry_cache(problem: Problem) -> BlockedEntryCache:
     cache = caches_for(problem)
     if cache.entries is None:
-        cache.entries = BlockedEntryCache(problem)
+        kin = problem.kinematics
+        cache.entries = BlockedEntryCache(kin.n_positions, len(kin.moves()))
     return cache.entries
 
 
@@ -258,7 +259,7 @@ def blocked_entries(problem: Problem, pair: ArrayLike, mover: ArrayLike, move: A
                                                                                            mover_at, other_at))
     held = _entry_cache(problem)
     hits, code, n_pos = held.hits, held.code, held.n_pos
-    keys = [code(kk, s) + (mv * n_pos + x) * n_pos + y
+    keys = [code(problem, kk, s) + (mv * n_pos + x) * n_pos + y
             for kk, s, mv, x, y in zip(k.tolist(), side.tolist(), m.tolist(), i.tolist(), j.tolist())]
     out = np.empty(len(keys), dtype=bool)
     todo = []
@@ -334,8 +335,8 @@ def blocked_lookup(problem: Problem) -> BlockedLookup:
     """
     held = _entry_cache(problem)
     cache, code, n_pos = held.hits, held.code, held.n_pos
-    return lambda pair, mover, move, mover_at, other_at: cache.get(code(pair, mover) + (move * n_pos + mover_at)
-                                                                   * n_pos + other_at)
+    return lambda pair, mover, move, mover_at, other_at: cache.get(code(problem, pair, mover)
+                                                                   + (move * n_pos + mover_at) * n_pos + other_at)
 
 
 def _move_blocked_any(problem: Problem, k: Pair) -> bool:
