@@ -104,13 +104,13 @@ def test_exact_swept_tables_are_symmetric_up_to_rounding(kin):
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("kin", KINEMATICS, ids=["rotary", "alpha-beta", "alpha-beta-tight"])
 def test_blocked_bits_read_like_the_table(kin, monkeypatch):
-    """The planner's hot readers take the blocked tables' bits (:func:`is_blocked`,
+    """The planner's hot readers take the blocked tables' bits (:func:`blocked_entry`,
     :func:`blocked_column`); with the unpacked cache at one byte (every table but the newest
     dropped and unpacked again when asked), they and the unpacked table agree entry for entry."""
-    from supcoord.planning import guards
-    from supcoord.planning.guards import blocked_bits, blocked_column, is_blocked
+    from supcoord.planning import caches
+    from supcoord.planning.guards import blocked_bits, blocked_column, blocked_entry
 
-    monkeypatch.setattr(guards, "BLOCKED_CACHE_BYTES", 1)
+    monkeypatch.setattr(caches, "BLOCKED_CACHE_BYTES", 1)
     problem = _problem(kin, 4)
     rng = np.random.default_rng(4)
     expected = {}
@@ -127,5 +127,5 @@ def test_blocked_bits_read_like_the_table(kin, monkeypatch):
             for j in rng.choice(Q, size=min(Q, 5), replace=False).tolist():
                 assert np.array_equal(blocked_column(problem, k, side, m, j), table[m, :, j])
             for i, j in zip(rng.integers(0, P, 40).tolist(), rng.integers(0, Q, 40).tolist()):
-                assert is_blocked(problem, k, side, m, i, j) == bool(table[m, i, j])
+                assert blocked_entry(problem, k, side, m, i, j) == bool(table[m, i, j])
     assert any(t.any() for t in expected.values()) and not all(t.all() for t in expected.values())

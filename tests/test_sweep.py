@@ -303,8 +303,8 @@ def test_tables_survive_eviction_and_are_read_only(monkeypatch):
 
 
 @pytest.mark.timeout(60)
-def test_swept_bits_and_lines_read_like_the_tables():
-    """``swept_bit`` and ``swept_line`` (the schedule's and the plan improvement's readers)
+def test_swept_entries_and_lines_read_like_the_tables():
+    """``swept_entry`` and ``swept_line`` (the schedule's and the plan improvement's readers)
     equal the unpacked tables, on a grid of identical robots (mirrored tables stored once)
     and on robots with their own geometry."""
     rng = np.random.default_rng(3)
@@ -320,11 +320,11 @@ def test_swept_bits_and_lines_read_like_the_tables():
                 M, P, Q = table.shape
                 for m in range(M):
                     for i in rng.integers(0, P, 4).tolist():
-                        assert np.array_equal(tables.swept_line(k, mover, m, i=i), table[m, i, :])
+                        assert np.array_equal(tables.swept_line(k, mover, m, at_a=i), table[m, i, :])
                     for j in rng.integers(0, Q, 4).tolist():
-                        assert np.array_equal(tables.swept_line(k, mover, m, j=j), table[m, :, j])
+                        assert np.array_equal(tables.swept_line(k, mover, m, at_b=j), table[m, :, j])
                     for i, j in zip(rng.integers(0, P, 20).tolist(), rng.integers(0, Q, 20).tolist()):
-                        assert tables.swept_bit(k, mover, m, i, j) == bool(table[m, i, j])
+                        assert tables.swept_entry(k, mover, m, i, j) == bool(table[m, i, j])
         assert (mirrored > 0) == (tables._distinct is None)  # the mirror route is taken on the grid
 
 
@@ -453,9 +453,10 @@ def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
     (:meth:`CollisionTables.swept_entries`): on robots with their own arms, lattices, hard
     stops or a wrapping alpha, unary tables (obstacles, held robots) on either side, both
     movers and every move, every entry, bit and line equals the whole table's; and the
-    symmetrised guards read from them (:func:`.guards.blocked_entries`, ``is_blocked``,
+    symmetrised guards read from them (:func:`.guards.blocked_entries`, ``blocked_entry``,
     ``blocked_column``) equal :func:`.guards.blocked_table`."""
     from supcoord.planning import guards
+    from supcoord.planning.caches import caches_for
     from supcoord.testing.oracle.cases import tight_angle_problem
 
     rng = np.random.default_rng(seed)
@@ -476,22 +477,22 @@ def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
             assert np.array_equal(lazy.swept_entries(k, mover, m, i, j), table[m, i, j]), (k, mover)
             for mv in range(M):
                 for x in rng.integers(0, P, 2).tolist():
-                    assert np.array_equal(lazy.swept_line(k, mover, mv, i=x), table[mv, x, :])
+                    assert np.array_equal(lazy.swept_line(k, mover, mv, at_a=x), table[mv, x, :])
                 for y in rng.integers(0, Q, 2).tolist():
-                    assert np.array_equal(lazy.swept_line(k, mover, mv, j=y), table[mv, :, y])
+                    assert np.array_equal(lazy.swept_line(k, mover, mv, at_b=y), table[mv, :, y])
             for mv, x, y in zip(rng.integers(0, M, 20).tolist(), rng.integers(0, P, 20).tolist(),
                                 rng.integers(0, Q, 20).tolist()):
-                assert lazy.swept_bit(k, mover, mv, x, y) == bool(table[mv, x, y])
+                assert lazy.swept_entry(k, mover, mv, x, y) == bool(table[mv, x, y])
         static, dist = whole.static(k), whole.distances(k)
         P, Q = static.shape
         for x in rng.integers(0, P, 3).tolist():
-            assert np.array_equal(lazy.static_line(k, i=x), static[x, :])
+            assert np.array_equal(lazy.static_line(k, at_a=x), static[x, :])
         for y in rng.integers(0, Q, 3).tolist():
-            assert np.array_equal(lazy.static_line(k, j=y), static[:, y])
+            assert np.array_equal(lazy.static_line(k, at_b=y), static[:, y])
         ia, jb = rng.integers(0, P, 200), rng.integers(0, Q, 200)
         view = lazy.distance_view(k)
         assert np.array_equal(view[ia, jb], dist[ia, jb]) and np.array_equal(view.T[jb, ia], dist.T[jb, ia])
-    assert not lazy._bits and lazy._entries  # nothing tabulated: entries only
+    assert not lazy._bits and lazy._decider is not None  # nothing tabulated: entries only
     # the guards, on a tight problem of robots on their own lattices, tables whole or lazy
     data = tight_angle_problem(seed, n=3, max_product=60_000)
     eager_p, lazy_p = parse_problem(data), parse_problem(data)
@@ -509,5 +510,5 @@ def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
                 y = int(rng.integers(0, Q))
                 assert np.array_equal(guards.blocked_column(lazy_p, k, side, mv, y), B[mv, :, y])
                 x = int(rng.integers(0, P))
-                assert guards.is_blocked(lazy_p, k, side, mv, x, y) == bool(B[mv, x, y])
-    assert not len(lazy_p.__dict__.get("_blocked_store", ()))  # no blocked table was built for the lazy problem
+                assert guards.blocked_entry(lazy_p, k, side, mv, x, y) == bool(B[mv, x, y])
+    assert not len(caches_for(lazy_p).blocked)  # no blocked table was built for the lazy problem

@@ -37,6 +37,7 @@ References
 
 from __future__ import annotations
 
+import weakref
 from math import cos, sin, sqrt
 from typing import Sequence
 
@@ -53,15 +54,25 @@ DEFAULT_TOL = 1e-6
 
 class ChainGeometry:
     """One kinematics as floats: its chain (:meth:`Kinematics.chain`), the chain angles of the
-    positions asked for (memoised) and the sweep length of each delta (memoised)."""
+    positions asked for (memoised) and the sweep length of each delta (memoised).  It refers
+    to its kinematics weakly (:func:`chain_geometry` keeps one per live kinematics object):
+    whoever makes one keeps the kinematics alive while using it."""
 
-    __slots__ = ("kin", "l1", "s0x", "s0y", "s1x", "s1y", "_angles", "_lengths")
+    __slots__ = ("_kin", "l1", "s0x", "s0y", "s1x", "s1y", "_angles", "_lengths")
 
     def __init__(self, kin: Kinematics):
-        self.kin = kin
+        self._kin = weakref.ref(kin)
         self.l1, ((self.s0x, self.s0y), (self.s1x, self.s1y)) = kin.chain()
         self._angles: dict[tuple[int, ...], tuple[float, float]] = {}
         self._lengths: dict[tuple[int, ...], float] = {}
+
+    @property
+    def kin(self) -> Kinematics:
+        """The kinematics described."""
+        kin = self._kin()
+        if kin is None:
+            raise RuntimeError("internal error: the kinematics of a ChainGeometry was collected while in use")
+        return kin
 
     def angles(self, q: tuple[int, ...]) -> tuple[float, float]:
         """Chain angles ``(a, b)`` of the (integer, possibly one past a wrapping end) position ``q``."""
@@ -79,11 +90,18 @@ class ChainGeometry:
         return out
 
 
+#: :func:`chain_geometry`'s results by ``id`` of their kinematics object, each dropped when
+#: the object is collected (:func:`weakref.finalize`; kinematics compare by value and are
+#: not hashable, and nothing is written onto them)
+_CHAINS: dict[int, ChainGeometry] = {}
+
+
 def chain_geometry(kin: Kinematics) -> ChainGeometry:
-    """The :class:`ChainGeometry` of ``kin``, made once per kinematics object."""
-    geo = kin.__dict__.get("_chain_geometry")
+    """The :class:`ChainGeometry` of ``kin``, made once per kinematics object (held here, not on ``kin``)."""
+    geo = _CHAINS.get(id(kin))
     if geo is None:
-        geo = kin.__dict__["_chain_geometry"] = ChainGeometry(kin)
+        geo = _CHAINS[id(kin)] = ChainGeometry(kin)
+        weakref.finalize(kin, _CHAINS.pop, id(kin), None)
     return geo
 
 

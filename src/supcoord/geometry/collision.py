@@ -36,6 +36,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .kinematics import Kinematics
@@ -47,7 +48,8 @@ from .pair_tables import MAX_TABLE_ENTRIES, distance_table, simultaneous_table, 
 from .pairs import colliding_pairs, neighbour_pairs
 from .segments import point_segment_distance, segment_distance
 from .sweep import rotation_clearance
-from .table_store import PackedTables, RecentArrays, release_free_heap, remembered
+from .table_index import Flags, MoveIndex, Mover, Pair, Position
+from .table_store import PackedTables, RecentArrays, release_free_heap
 
 __all__ = ["segment_distance", "point_segment_distance", "rotation_clearance", "neighbour_pairs", "turn_collides",
            "placed_segments", "static_table", "swept_table", "motion_collides", "distance_table", "simultaneous_table",
@@ -65,8 +67,6 @@ UNPACKED_CACHE_BYTES = 256 * 2**20
 #: lazy tables took 0.5x the time at 19 x 10 (134 MB of tables), 0.43x at 25 x 13, 0.21x at
 #: 37 x 19, and as long at 13 x 7 (31 MB), with 1/3 to 1/8 of the memory and the same plans
 LAZY_TABLE_BYTES = 64 * 2**20
-#: swept entries decided on demand and remembered (a lazy table's cache; cleared when full)
-ENTRY_CACHE = 2_000_000
 #: bytes of lazy lines (a swept table's ``[m, i, :]`` or ``[m, :, j]``) kept
 LINE_CACHE_BYTES = 128 * 2**20
 
@@ -78,8 +78,11 @@ class CollisionTables:
     ``x_b − x_a`` and buffer sum share their tables (a hex grid of identical robots has only
     a handful of distinct offsets), so a grid of hundreds of positioners costs a few table
     computations; robots with their own lattices or arms (``kins``, one per robot) have
-    their own.  ``pairs[k] = (a, b)``; ``static(k)[i, j]`` and ``swept(k, mover)[m, i, j]``
-    index positions of ``a`` by ``i`` and of ``b`` by ``j``.
+    their own.  ``pairs[pair] = (a, b)``; ``static(pair)[at_a, at_b]`` and
+    ``swept(pair, mover)[move, at_a, at_b]`` index positions of ``a`` by ``at_a`` and of ``b``
+    by ``at_b`` whoever moves (the names of :mod:`.table_index`); :meth:`swept_entry`,
+    :meth:`swept_line` and :meth:`swept_entries` read one entry, one line or many entries of
+    any pairs.
 
     ``unary[p] = (U, V)`` (:mod:`.obstacles`: fixed obstacles, robots held in place) is folded
     into every table of ``p``'s pairs: ``T ∨ U_a[i] ∨ U_b[j]``, a move ``m`` of ``a`` blocked
@@ -89,7 +92,7 @@ class CollisionTables:
     **Lazy tables.**  Where the distinct tables would hold more than
     :data:`LAZY_TABLE_BYTES` bit-packed (``lazy=None``: decided from the sizes; the real APO
     wok at 37 × 19 positions, 3,713 distinct pairs, would hold 1.8 GB, at 73 × 37 27 GB),
-    nothing is tabulated ahead: :meth:`swept_bit` and :meth:`swept_line` decide the entries
+    nothing is tabulated ahead: :meth:`swept_entry` and :meth:`swept_line` decide the entries
     they are asked for (:meth:`swept_entries`, the same end-point prefilter and exact closed
     form as :func:`swept_table` on the same numbers, so the same Booleans), and
     :meth:`swept` builds a whole table only for a pair that is asked for one.
@@ -117,7 +120,6 @@ class CollisionTables:
         self._bits = PackedTables(UNPACKED_CACHE_BYTES)
         self._simultaneous: dict[tuple, np.ndarray] = {}
         self._dist = RecentArrays(DIST_CACHE_BYTES)
-        self._entries: dict[tuple, bool] = {}  # lazy: (swept key, m, i, j) -> entry
         self._lines = RecentArrays(LINE_CACHE_BYTES)  # lazy: (swept key, m, axis, index) -> line
         self._decider: SweptEntries | None = None  # lazy: the stacked geometry of every pair
         self.lazy = self.table_bytes() > LAZY_TABLE_BYTES if lazy is None else bool(lazy)
@@ -140,6 +142,15 @@ class CollisionTables:
     def _unary(self, k: int) -> tuple[tuple | None, tuple | None]:
         a, b = (int(v) for v in self.pairs[k])
         return self.unary.get(a), self.unary.get(b)
+
+    def geometry_key(self, a: int, b: int) -> tuple[float, float, float, int, int]:
+        """What the collision geometry of robots ``a`` and ``b`` depends on: ``(offset x, offset y,
+        buffer sum, table id of a, table id of b)``, offset ``x_b − x_a`` in mm rounded to 1e-9.
+        Robots with equal table ids have the same kinematics and no unary tables of their own,
+        so equal keys mean equal tables (what the tables share by)."""
+        off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
+        return (float(off[0]), float(off[1]), round(float(self.buffers[a] + self.buffers[b]), 9),
+                int(self._ids[a]), int(self._ids[b]))
 
     def _key(self, k: int) -> tuple:
         key = self._keys.get(k)
@@ -190,8 +201,11 @@ class CollisionTables:
         (ox, oy), bsum, ua, ub, mover = key
         return ((-ox + 0.0, -oy + 0.0), bsum, ub, ua, 1 - mover)
 
-    def swept(self, k: int, mover: int) -> np.ndarray:
-        key = self._key(k) + (mover,)
+    def swept(self, pair: Pair, mover: Mover) -> Flags:
+        """``W[move, at_a, at_b]``: the move ``move`` of the pair's member ``mover`` collides with
+        the other standing, ``a`` at ``at_a`` and ``b`` at ``at_b`` (:func:`swept_table`, the
+        unary tables folded in).  The whole table, built if it is not stored; read-only."""
+        key = self._key(pair) + (mover,)
         if key not in self._bits:
             (ox, oy), bsum, ua, ub = key[:4]
             mirror = self._mirror_key(key)
@@ -199,69 +213,105 @@ class CollisionTables:
                 return np.swapaxes(self._bits.get(mirror), 1, 2)
             table = swept_table(self._kin(ua), (0.0, 0.0), (ox, oy), bsum, mover, kin_b=self._kin(ub),
                                 distances=self._distances((ox, oy), ua, ub))
-            return self._bits.put(key, self._fold_swept(k, mover, table))
+            return self._bits.put(key, self._fold_swept(pair, mover, table))
         return self._bits.get(key)
 
-    def _swept_key(self, k: int, mover: int) -> tuple[tuple, bool]:
-        """The stored key of ``swept(k, mover)`` and whether it is stored transposed (mirror)."""
-        key = self._key(k) + (mover,)
+    def _swept_key(self, pair: Pair, mover: Mover) -> tuple[tuple, bool]:
+        """The stored key of ``swept(pair, mover)`` and whether it is stored transposed (mirror)."""
+        key = self._key(pair) + (mover,)
         if key not in self._bits:
             mirror = self._mirror_key(key)
             if mirror in self._bits:
                 return mirror, True
-            self.swept(k, mover)
+            self.swept(pair, mover)
         return key, False
 
-    def _stored_swept(self, k: int, mover: int) -> tuple[tuple, bool] | None:
-        """``(key, mirrored)`` of ``swept(k, mover)`` if it is stored (itself or its mirror), else None."""
-        key = self._key(k) + (mover,)
+    def _stored_swept(self, pair: Pair, mover: Mover) -> tuple[tuple, bool] | None:
+        """``(key, mirrored)`` of ``swept(pair, mover)`` if it is stored (itself or its mirror), else None."""
+        key = self._key(pair) + (mover,)
         if key in self._bits:
             return key, False
         mirror = self._mirror_key(key)
         return (mirror, True) if mirror in self._bits else None
 
-    def swept_bit(self, k: int, mover: int, m: int, i: int, j: int) -> bool:
-        """``swept(k, mover)[m, i, j]``, read from the bits (no table unpacked); a lazy table's
-        entry is decided on its own (:meth:`swept_entries`) unless the table is stored."""
-        if self.lazy and self._stored_swept(k, mover) is None:
-            return bool(self.swept_entries(k, mover, [m], [i], [j])[0])
-        key, mirrored = self._swept_key(k, mover)
-        return self._bits.bit(key, m, j, i) if mirrored else self._bits.bit(key, m, i, j)
+    def swept_entry(self, pair: Pair, mover: Mover, move: MoveIndex, at_a: Position, at_b: Position) -> bool:
+        """``swept(pair, mover)[move, at_a, at_b]``, read from the bits (no table unpacked); a
+        lazy table's entry is decided on its own (:meth:`swept_entries`) unless the table is stored.
 
-    def swept_line(self, k: int, mover: int, m: int, *, i: int | None = None, j: int | None = None) -> np.ndarray:
-        """``swept(k, mover)[m, i, :]`` (given ``i``) or ``[m, :, j]`` (given ``j``), from the bits
-        (a lazy table's line decided on its own, :meth:`swept_entries`, and kept while recent)."""
-        if (i is None) == (j is None):
-            raise InputError("swept_line takes exactly one of i and j", value=(i, j))
-        if self.lazy and self._stored_swept(k, mover) is None:
-            line_key = self._key(k) + (mover, m, i, j)
+        Parameters
+        ----------
+        pair : Pair
+            The neighbour pair (index into :attr:`pairs`).
+        mover : Mover
+            The member moving (0: ``a``, 1: ``b``).
+        move : MoveIndex
+            The move (index into the mover's ``moves()``).
+        at_a, at_b : Position
+            Flat positions of ``a`` and of ``b``.
+
+        Returns
+        -------
+        bool
+            True: the move collides.
+        """
+        if self.lazy and self._stored_swept(pair, mover) is None:
+            return bool(self._decide_entries(pair, mover, move, at_a, at_b)[0])
+        key, mirrored = self._swept_key(pair, mover)
+        return self._bits.bit(key, move, at_b, at_a) if mirrored else self._bits.bit(key, move, at_a, at_b)
+
+    def swept_line(self, pair: Pair, mover: Mover, move: MoveIndex, *, at_a: Position | None = None,
+                   at_b: Position | None = None) -> Flags:
+        """``swept(pair, mover)[move, at_a, :]`` (given ``at_a``) or ``[move, :, at_b]`` (given
+        ``at_b``), from the bits (a lazy table's line decided on its own, :meth:`swept_entries`,
+        and kept while recent).
+
+        Raises
+        ------
+        InputError
+            Unless exactly one of ``at_a`` and ``at_b`` is given.
+        """
+        if (at_a is None) == (at_b is None):
+            raise InputError("swept_line takes exactly one of at_a and at_b", value=(at_a, at_b))
+        if self.lazy and self._stored_swept(pair, mover) is None:
+            line_key = self._key(pair) + (mover, move, at_a, at_b)
             line = self._lines.get(line_key)
             if line is None:
-                _, _, ua, ub = self._key(k)
-                if i is not None:
+                _, _, ua, ub = self._key(pair)
+                if at_a is not None:
                     jj = np.arange(self._kin(ub).n_positions)
-                    ii = np.full(len(jj), i)
+                    ii = np.full(len(jj), at_a)
                 else:
                     ii = np.arange(self._kin(ua).n_positions)
-                    jj = np.full(len(ii), j)
-                line = self._lines.put(line_key, self.swept_entries(k, mover, np.full(len(ii), m), ii, jj, cache=False))
+                    jj = np.full(len(ii), at_b)
+                line = self._lines.put(line_key, self._decide_entries(pair, mover, move, ii, jj))
             return line
-        key, mirrored = self._swept_key(k, mover)
-        if i is not None:
-            return self._bits.column(key, m, i) if mirrored else self._bits.row(key, m, i)
-        return self._bits.row(key, m, j) if mirrored else self._bits.column(key, m, j)
+        key, mirrored = self._swept_key(pair, mover)
+        if at_a is not None:
+            return self._bits.column(key, move, at_a) if mirrored else self._bits.row(key, move, at_a)
+        return self._bits.row(key, move, at_b) if mirrored else self._bits.column(key, move, at_b)
 
-    def swept_entries(self, k: int, mover: int, m: Any, i: Any, j: Any, *, cache: bool = True) -> np.ndarray:
-        """``swept(k, mover)[m, i, j]`` for index arrays (``i`` of ``a``, ``j`` of ``b``), decided
-        from the geometry without the table, as :func:`swept_table` decides them
-        (:class:`.entries.SweptEntries`).  ``cache``: remember them (single reads)."""
-        m, i, j = (np.atleast_1d(np.asarray(v, dtype=np.int64)) for v in (m, i, j))
-        if not cache:
-            return self._decide_entries(k, mover, m, i, j)
-        skey = self._key(k) + (mover,)
-        keys = [skey + cell for cell in zip(m.tolist(), i.tolist(), j.tolist())]
-        return remembered(self._entries, keys, lambda sel: self._decide_entries(k, mover, m[sel], i[sel], j[sel]),
-                          ENTRY_CACHE)
+    def swept_entries(self, pair: ArrayLike, mover: ArrayLike, move: ArrayLike, at_a: ArrayLike,
+                      at_b: ArrayLike) -> Flags:
+        """``swept(pair[e], mover[e])[move[e], at_a[e], at_b[e]]`` for every entry ``e`` of any
+        pairs (the index arrays broadcast): read from the bits, or for lazy tables decided at
+        once from the geometry without the tables (:class:`.entries.SweptEntries`, the same
+        Booleans as :func:`swept_table`); nothing is remembered.
+
+        Parameters
+        ----------
+        pair, mover, move, at_a, at_b : array_like of int
+            Per entry: the neighbour pair, the member moving (0: ``a``, 1: ``b``), the move
+            (index into ``moves()``), the flat positions of ``a`` and of ``b``.
+
+        Returns
+        -------
+        Flags
+            One Boolean per entry (True: the move collides), flattened.
+        """
+        if self.lazy:
+            return self._decide_entries(pair, mover, move, at_a, at_b)
+        cells = np.broadcast_arrays(*(np.asarray(v, dtype=np.int64) for v in (pair, mover, move, at_a, at_b)))
+        return np.array([self.swept_entry(*cell) for cell in zip(*(c.ravel().tolist() for c in cells))], dtype=bool)
 
     def _entries_of(self) -> SweptEntries:
         if self._decider is None:
@@ -269,25 +319,32 @@ class CollisionTables:
             self._decider = SweptEntries(self._kin, self._ids, self.pairs, keys, self.unary)
         return self._decider
 
-    def _decide_entries(self, k: Any, mover: Any, m: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        """:meth:`swept_entries` without the cache, for entries of any pairs (:class:`.entries.SweptEntries`)."""
-        return self._entries_of().decide(k, mover, m, i, j)
+    def _decide_entries(self, pair: ArrayLike, mover: ArrayLike, move: ArrayLike, at_a: ArrayLike,
+                        at_b: ArrayLike) -> Flags:
+        """:meth:`swept_entries` decided from the geometry (:class:`.entries.SweptEntries`)."""
+        return self._entries_of().decide(pair, mover, move, at_a, at_b)
 
-    def static_line(self, k: int, *, i: int | None = None, j: int | None = None) -> np.ndarray:
-        """``static(k)[i, :]`` (given ``i``) or ``[:, j]`` (given ``j``); lazy tables decide the
-        line on its own (:meth:`.entries.SweptEntries.static`, the same Booleans)."""
-        if (i is None) == (j is None):
-            raise InputError("static_line takes exactly one of i and j", value=(i, j))
-        if self.lazy and self._key(k) not in self._bits:
-            line_key = self._key(k) + ("static", i, j)
+    def static_line(self, pair: Pair, *, at_a: Position | None = None, at_b: Position | None = None) -> Flags:
+        """``static(pair)[at_a, :]`` (given ``at_a``) or ``[:, at_b]`` (given ``at_b``); lazy
+        tables decide the line on its own (:meth:`.entries.SweptEntries.static`, the same Booleans).
+
+        Raises
+        ------
+        InputError
+            Unless exactly one of ``at_a`` and ``at_b`` is given.
+        """
+        if (at_a is None) == (at_b is None):
+            raise InputError("static_line takes exactly one of at_a and at_b", value=(at_a, at_b))
+        if self.lazy and self._key(pair) not in self._bits:
+            line_key = self._key(pair) + ("static", at_a, at_b)
             line = self._lines.get(line_key)
             if line is None:
-                _, _, ua, ub = self._key(k)
-                idx = np.arange(self._kin(ub).n_positions if i is not None else self._kin(ua).n_positions)
-                line = self._lines.put(line_key, self._entries_of().static(k, i, idx) if i is not None else
-                                       self._entries_of().static(k, idx, j))
+                _, _, ua, ub = self._key(pair)
+                idx = np.arange(self._kin(ub).n_positions if at_a is not None else self._kin(ua).n_positions)
+                line = self._lines.put(line_key, self._entries_of().static(pair, at_a, idx) if at_a is not None else
+                                       self._entries_of().static(pair, idx, at_b))
             return line
-        return self.static(k)[i, :] if i is not None else self.static(k)[:, j]
+        return self.static(pair)[at_a, :] if at_a is not None else self.static(pair)[:, at_b]
 
     def distance_view(self, k: int) -> Any:
         """Pair ``k``'s :meth:`distances` as read by :func:`.motion.prefiltered_motion_collides`
@@ -295,19 +352,6 @@ class CollisionTables:
         if self.lazy:
             return LazyDistances(self._entries_of(), k)
         return self.distances(k)
-
-    def swept_bits(self, k: Any, mover: Any, m: Any, i: Any, j: Any) -> np.ndarray:
-        """:meth:`swept_bit` of entries of any pairs (arrays, broadcast): read from the bits, or
-        for lazy tables decided at once (:meth:`swept_entries_of_pairs`)."""
-        if self.lazy:
-            return self._decide_entries(k, mover, m, i, j)
-        cells = np.broadcast_arrays(*(np.asarray(v, dtype=np.int64) for v in (k, mover, m, i, j)))
-        return np.array([self.swept_bit(*cell) for cell in zip(*(c.ravel().tolist() for c in cells))], dtype=bool)
-
-    def swept_entries_of_pairs(self, k: Any, mover: Any, m: Any, i: Any, j: Any) -> np.ndarray:
-        """:meth:`swept_entries` of entries of many pairs at once (``k``, ``mover`` per entry),
-        not remembered: what a reader that batches its reads calls."""
-        return self._decide_entries(k, mover, m, i, j)
 
     def _fold_swept(self, k: int, mover: int, table: np.ndarray, rows_of_mover: bool = False) -> np.ndarray:
         """``table`` (``swept(k, mover)``, or with ``rows_of_mover`` its transpose ``[m, j, i]``

@@ -126,17 +126,19 @@ def rule_tables(kin: Kinematics, c0: float, c1: float) -> UnaryTables:
 
 
 def _fixed_chain(segment: np.ndarray) -> ChainGeometry:
-    """The :class:`ChainGeometry` of a fixed segment, made once per segment."""
+    """The :class:`ChainGeometry` of a fixed segment, made once per segment (held with its
+    :class:`FixedSegment`, which the geometry refers to weakly)."""
     key = tuple(np.asarray(segment, float).ravel().tolist())
-    geo = _FIXED_CHAINS.get(key)
-    if geo is None:
+    held = _FIXED_CHAINS.get(key)
+    if held is None:
         if len(_FIXED_CHAINS) > 4096:
             _FIXED_CHAINS.clear()
-        geo = _FIXED_CHAINS[key] = chain_geometry(FixedSegment(segment))
-    return geo
+        fixed = FixedSegment(segment)
+        held = _FIXED_CHAINS[key] = (fixed, chain_geometry(fixed))
+    return held[1]
 
 
-_FIXED_CHAINS: dict[tuple, ChainGeometry] = {}
+_FIXED_CHAINS: dict[tuple, tuple[FixedSegment, ChainGeometry]] = {}
 
 
 def obstacle_motion_collides(kin: Kinematics, base: Any, q0: Any, delta: Any, buffer: float, obstacles: np.ndarray,

@@ -25,11 +25,11 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 from collections import OrderedDict
-from typing import Any, Callable, Hashable
+from typing import Any, Hashable
 
 import numpy as np
 
-__all__ = ["RecentArrays", "PackedTables", "release_free_heap", "remembered"]
+__all__ = ["RecentArrays", "PackedTables", "release_free_heap"]
 
 _TRIM: list[Any] = []  # glibc's malloc_trim, or None where there is none (looked up once)
 
@@ -50,28 +50,6 @@ def release_free_heap() -> None:
         _TRIM.append(trim)
     if _TRIM[0] is not None:
         _TRIM[0](0)
-
-
-def remembered(cache: dict, keys: list[Hashable], decide: Callable[[np.ndarray], np.ndarray],
-               limit: int) -> np.ndarray:
-    """Booleans of ``keys``: read from ``cache`` where held, the others decided at once
-    (``decide(indices)`` into ``keys``) and remembered; ``cache`` is emptied first when it
-    would hold more than ``limit`` entries (the lazy tables' entry caches)."""
-    out = np.empty(len(keys), dtype=bool)
-    todo = []
-    for n, key in enumerate(keys):
-        hit = cache.get(key)
-        if hit is None:
-            todo.append(n)
-        else:
-            out[n] = hit
-    if todo:
-        sel = np.asarray(todo)
-        got = out[sel] = decide(sel)
-        if len(cache) + len(todo) > limit:
-            cache.clear()
-        cache.update(zip((keys[n] for n in todo), got.tolist()))
-    return out
 
 
 class RecentArrays:

@@ -49,7 +49,8 @@ from ..geometry.chain_motion import chain_geometry, chain_motion_collides
 from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move
 from ..problems.problem import Problem
-from .guards import blocked_bits, blocked_entries, blocked_entries_of_pairs, conflict_graph, entry_lookup, pair_graph
+from .caches import caches_for
+from .guards import blocked_bits, blocked_entries, blocked_lookup, conflict_graph, pair_graph
 
 __all__ = ["descent", "descent_step", "wanted_moves", "motion_free"]
 
@@ -71,8 +72,8 @@ def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarr
     """Is the simultaneous motion of pair ``k`` free: the member ``side`` moving ``x → x + dp``,
     the other ``y → y + dq`` (None: standing)?  :func:`~supcoord.geometry.chain_motion.chain_motion_collides`
     (one motion on floats), cached per (pair geometry, poses, deltas): a grid has few distinct
-    pair offsets."""
-    cache = problem.__dict__.setdefault("_motion_cache", {})
+    pair offsets (held in the problem's :class:`~supcoord.planning.caches.PlanningCache`)."""
+    cache = caches_for(problem).motions
     a, b = (int(v) for v in problem.pairs[k])
     nj = problem.kinematics.n_joints
     dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
@@ -100,7 +101,7 @@ class _Lookups:
         self.adj = conflict_graph(problem)
         self.pair_adj = pair_graph(problem)
         self.lazy = problem.tables().lazy  # entries decided as read (guards.blocked_entries)
-        self.lookup = entry_lookup(problem) if self.lazy else None
+        self.lookup = blocked_lookup(problem) if self.lazy else None
 
         self.steps = [j.steps for j in kin.joints]
         self.wraps = [j.wraps for j in kin.joints]
@@ -204,7 +205,7 @@ def descent_step(problem: Problem, c: np.ndarray, T: _Lookups | None = None,
 
 
 def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int]) -> None:
-    """Decide at once (:func:`.guards.blocked_entries_of_pairs`) every lazy table entry that
+    """Decide at once (:func:`.guards.blocked_entries`) every lazy table entry that
     condition (1) may read in this step: each unfinished positioner's candidate moves from its
     poses part-way through a candidate set, against each neighbour's poses part-way through
     one of its own (a superset of what the step reads, in one vectorised call instead of
@@ -238,7 +239,7 @@ def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int]) -> None:
                         ii.append(i)
                         jj.append(j)
     if kk:
-        blocked_entries_of_pairs(T.problem, kk, ss, mm, ii, jj)
+        blocked_entries(T.problem, kk, ss, mm, ii, jj)
 
 
 def descent(problem: Problem, c: np.ndarray, max_steps: int | None = None,

@@ -33,52 +33,68 @@ References
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable, Sequence
+from typing import Protocol, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..bdd.context import BDD, Context
-from ..geometry.collision import ENTRY_CACHE
 from ..geometry.kinematics import Kinematics
-from ..geometry.table_store import PackedTables, release_free_heap, remembered
+from ..geometry.table_index import Flags, Indices, MoveIndex, Mover, Pair, Position
+from ..geometry.table_store import PackedTables, release_free_heap
 from ..problems.problem import Problem
+from .caches import ENTRY_CACHE, Adjacency, BlockedEntryCache, caches_for
 
-__all__ = ["blocked_table", "blocked_bits", "blocked_column", "blocked_entries", "blocked_entries_of_pairs",
-           "is_blocked", "conflict_graph", "pair_graph",
-           "successor_table", "table_bdd", "var_names"]
-
-#: ``adj[p] = [(k, q, side), …]``: pair ``k = (p, q)`` with ``p`` on side ``side``
-Adjacency = list[list[tuple[int, int, int]]]
+__all__ = ["blocked_table", "blocked_bits", "blocked_column", "blocked_entries", "blocked_entry", "blocked_lookup",
+           "BlockedLookup", "conflict_graph", "pair_graph", "successor_table", "table_bdd", "var_names"]
 
 
-#: bytes of blocked tables kept unpacked (all are kept bit-packed: :func:`blocked_bits`)
-BLOCKED_CACHE_BYTES = 256 * 2**20
+def _key(problem: Problem, pair: Pair, mover: Mover) -> tuple:
+    """The store key of pair ``pair``'s blocked table with mover ``mover`` (shared by equal geometry)."""
+    return problem.pair_geometry_key(pair) + (mover,)
 
 
-def _blocked_store(problem: Problem) -> PackedTables:
-    store = problem.__dict__.get("_blocked_store")
-    if store is None:
-        store = problem.__dict__["_blocked_store"] = PackedTables(BLOCKED_CACHE_BYTES)
-    return store
+def blocked_table(problem: Problem, pair: Pair, mover: Mover) -> Flags:
+    """``B[move, mover_at, other_at]``: the move ``move`` of the pair's member ``mover`` from
+    ``mover_at`` is blocked while the other stands at ``other_at`` (module docstring).
 
+    Oriented mover first, symmetrised with the reverse move from the end pose.  Shared, like
+    the swept tables, by the pairs of equal geometry (:meth:`Problem.pair_geometry_key`): one
+    table per offset on a grid of identical robots, not one per pair.  Kept bit-packed in the
+    problem's :class:`~supcoord.planning.caches.PlanningCache`; the readers of single entries
+    or columns use :func:`blocked_entry` and :func:`blocked_column`, which read the bits
+    without unpacking.
 
-def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
-    """``B[m, i, j]``: move ``m`` of the pair member ``side`` (0: ``a``, 1: ``b``) from its
-    position ``i`` is blocked while the other stands at ``j`` — oriented mover first,
-    symmetrised with the reverse move from the end pose (module docstring).  Shared, like the
-    swept tables, by the pairs of equal geometry (:meth:`Problem.pair_geometry_key`): one
-    table per offset on a grid of identical robots, not one per pair.  Kept bit-packed
-    (:mod:`supcoord.geometry.table_store`); the array returned is read-only, and the readers
-    of single entries or columns use :func:`is_blocked` and :func:`blocked_column`, which
-    read the bits without unpacking."""
-    store = _blocked_store(problem)
-    key = problem.pair_geometry_key(k) + (side,)
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+
+    Returns
+    -------
+    Flags
+        Read-only ``(moves, positions, positions)`` Booleans (flat positions).
+
+    Examples
+    --------
+    >>> from supcoord.problems.presets import preset_problem
+    >>> problem = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5)
+    >>> b = blocked_table(problem, 0, Mover.A)
+    >>> b.shape == (len(problem.kinematics.moves()), problem.kinematics.n_positions, problem.kinematics.n_positions)
+    True
+    """
+    store = caches_for(problem).blocked
+    key = _key(problem, pair, mover)
     if key in store:
         return store.get(key)
     tables, kin = problem.tables(), problem.kinematics
-    w = tables.swept(k, side)
-    if side == 1:
-        w = np.swapaxes(w, 1, 2)  # [m, i_mover, j_other]
+    w = tables.swept(pair, mover)
+    if mover == 1:
+        w = np.swapaxes(w, 1, 2)  # [move, mover_at, other_at]
     pos = kin.all_positions()
     moves = kin.moves()
     out = w.copy()
@@ -90,128 +106,200 @@ def blocked_table(problem: Problem, k: int, side: int) -> np.ndarray:
     return store.put(key, out)
 
 
-def _stored(problem: Problem, k: int, side: int) -> tuple[PackedTables, tuple]:
-    """The store and key of :func:`blocked_table` ``(k, side)``, the table computed if new."""
-    store = _blocked_store(problem)
-    key = problem.pair_geometry_key(k) + (side,)
+def _stored(problem: Problem, pair: Pair, mover: Mover) -> tuple[PackedTables, tuple]:
+    """The store and key of :func:`blocked_table` ``(pair, mover)``, the table computed if new."""
+    store = caches_for(problem).blocked
+    key = _key(problem, pair, mover)
     if key not in store:
-        blocked_table(problem, k, side)
+        blocked_table(problem, pair, mover)
     return store, key
 
 
-def blocked_bits(problem: Problem, k: int, side: int) -> np.ndarray:
-    """:func:`blocked_table` bit-packed on its last axis (read-only ``uint8``): ``B[m, i, j]``
-    is bit ``7 − j % 8`` of byte ``[m, i, j // 8]`` (:meth:`PackedTables.packed`)."""
-    store, key = _stored(problem, k, side)
+def blocked_bits(problem: Problem, pair: Pair, mover: Mover) -> NDArray[np.uint8]:
+    """:func:`blocked_table` bit-packed on its last axis (:meth:`PackedTables.packed`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+
+    Returns
+    -------
+    numpy.ndarray of uint8
+        Read-only; ``B[move, mover_at, other_at]`` is bit ``7 − other_at % 8`` of byte
+        ``[move, mover_at, other_at // 8]``.
+    """
+    store, key = _stored(problem, pair, mover)
     return store.packed(key)
 
 
-def _lazy(problem: Problem, k: int, side: int) -> bool:
-    """Are pair ``k``'s tables lazy (:attr:`CollisionTables.lazy`) and its blocked table not built?"""
-    return problem.tables().lazy and problem.pair_geometry_key(k) + (side,) not in _blocked_store(problem)
+def _lazy(problem: Problem, pair: Pair, mover: Mover) -> bool:
+    """Are the pair's tables lazy (:attr:`CollisionTables.lazy`) and its blocked table not built?"""
+    return problem.tables().lazy and _key(problem, pair, mover) not in caches_for(problem).blocked
 
 
-def is_blocked(problem: Problem, k: int, side: int, m: int, i: int, j: int) -> bool:
-    """``B[m, i, j]`` of :func:`blocked_table`, read from the bits (lazy tables: decided on its
-    own, :func:`blocked_entries`)."""
-    if _lazy(problem, k, side):
-        return bool(blocked_entries(problem, k, side, [m], [i], [j])[0])
-    store, key = _stored(problem, k, side)
-    return store.bit(key, m, i, j)
+def blocked_entry(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, mover_at: Position,
+                  other_at: Position) -> bool:
+    """``B[move, mover_at, other_at]`` of :func:`blocked_table`, read from the bits (lazy
+    tables: decided on its own and remembered, :func:`blocked_entries`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+    move : MoveIndex
+        The move (index into ``problem.kinematics.moves()``).
+    mover_at, other_at : Position
+        Flat positions of the mover and of the other, standing.
+
+    Returns
+    -------
+    bool
+        True: the move is blocked.
+
+    Examples
+    --------
+    >>> from supcoord.problems.presets import preset_problem
+    >>> problem = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5)
+    >>> blocked_entry(problem, 0, Mover.A, 0, 3, 5) == bool(blocked_table(problem, 0, Mover.A)[0, 3, 5])
+    True
+    """
+    if _lazy(problem, pair, mover):
+        return bool(blocked_entries(problem, pair, mover, move, mover_at, other_at)[0])
+    store, key = _stored(problem, pair, mover)
+    return store.bit(key, move, mover_at, other_at)
 
 
-def blocked_column(problem: Problem, k: int, side: int, m: int, j: int) -> np.ndarray:
-    """``B[m, :, j]`` of :func:`blocked_table` (the mover's positions blocked by the other
-    standing at ``j``), read from the bits (lazy tables: from two lines of the swept table,
-    :meth:`CollisionTables.swept_line`)."""
-    if _lazy(problem, k, side):
+def blocked_column(problem: Problem, pair: Pair, mover: Mover, move: MoveIndex, other_at: Position) -> Flags:
+    """``B[move, :, other_at]`` of :func:`blocked_table`: the mover's positions from which
+    ``move`` is blocked by the other standing at ``other_at``; read from the bits (lazy
+    tables: from two lines of the swept table, :meth:`CollisionTables.swept_line`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair : Pair
+        The neighbour pair (index into ``problem.pairs``).
+    mover : Mover
+        The member moving (0: ``a``, 1: ``b``).
+    move : MoveIndex
+        The move (index into ``problem.kinematics.moves()``).
+    other_at : Position
+        Flat position of the other member, standing.
+
+    Returns
+    -------
+    Flags
+        One Boolean per flat position of the mover (True: blocked from there).
+    """
+    if _lazy(problem, pair, mover):
         tables, kin = problem.tables(), problem.kinematics
-        joint, delta = kin.moves()[m]
+        joint, delta = kin.moves()[move]
         rev = kin.moves().index((joint, -delta))
-        line = (lambda mv: tables.swept_line(k, 0, mv, j=j)) if side == 0 else \
-            (lambda mv: tables.swept_line(k, 1, mv, i=j))
-        out = line(m).copy()
+        line = (lambda mv: tables.swept_line(pair, 0, mv, at_b=other_at)) if mover == 0 else \
+            (lambda mv: tables.swept_line(pair, 1, mv, at_a=other_at))
+        out = line(move).copy()
         nxt, ok = kin.step_array(kin.all_positions(), joint, delta)
         idx = np.nonzero(ok)[0]
         out[idx] |= line(rev)[kin.flat_index(nxt[idx])]
         return out
-    store, key = _stored(problem, k, side)
-    return store.column(key, m, j)
+    store, key = _stored(problem, pair, mover)
+    return store.column(key, move, other_at)
 
 
-def blocked_entries(problem: Problem, k: int, side: int, m: Sequence[int], i: Sequence[int],
-                    j: Sequence[int]) -> np.ndarray:
-    """``B[m, i, j]`` of :func:`blocked_table` for index lists (mover at ``i``, the other at
-    ``j``), each decided on its own from the swept entries (:func:`blocked_entries_of_pairs`):
-    what the readers of lazy tables use.  Remembered per problem."""
-    held = _entry_cache(problem)
-    g, n_pos = held.code(k, side), held.n_pos
-    keys = [g + (mv * n_pos + x) * n_pos + y for mv, x, y in zip(m, i, j)]
-    m, i, j = (np.asarray(v, dtype=np.int64) for v in (m, i, j))
-    return remembered(held.hits, keys, lambda sel: blocked_entries_of_pairs(problem, k, side, m[sel], i[sel], j[sel]),
-                      ENTRY_CACHE)
-
-
-class _EntryCache:
-    """A problem's remembered lazy blocked entries, one integer key per entry:
-    ``code(k, side) + (m · P + i) · P + j`` (pairs of equal geometry share a code)."""
-
-    def __init__(self, problem: Problem):
+def _entry_cache(problem: Problem) -> BlockedEntryCache:
+    cache = caches_for(problem)
+    if cache.entries is None:
         kin = problem.kinematics
-        self.problem = problem
-        self.n_pos = kin.n_positions
-        self.span = len(kin.moves()) * self.n_pos ** 2
-        self.hits: dict[int, bool] = {}
-        self._geometry: dict[tuple, int] = {}
-        self._codes: dict[tuple[int, int], int] = {}
-
-    def code(self, k: int, side: int) -> int:
-        out = self._codes.get((k, side))
-        if out is None:
-            g = self._geometry.setdefault(self.problem.pair_geometry_key(k) + (side,), len(self._geometry))
-            out = self._codes[k, side] = g * self.span
-        return out
+        cache.entries = BlockedEntryCache(kin.n_positions, len(kin.moves()))
+    return cache.entries
 
 
-def _entry_cache(problem: Problem) -> _EntryCache:
-    held = problem.__dict__.get("_blocked_entries")
-    if held is None:
-        held = problem.__dict__["_blocked_entries"] = _EntryCache(problem)
-    return held
+def blocked_entries(problem: Problem, pair: ArrayLike, mover: ArrayLike, move: ArrayLike, mover_at: ArrayLike,
+                    other_at: ArrayLike) -> Flags:
+    """``B[move[e], mover_at[e], other_at[e]]`` of :func:`blocked_table` ``(pair[e], mover[e])``
+    for every entry ``e`` (the index arrays broadcast): what the readers of lazy tables use.
+
+    The entries remembered in the problem's cache are read; the others are decided at once
+    from the swept entries of any pairs (:meth:`CollisionTables.swept_entries`): the entry,
+    then (unless it is blocked already) the way back from the end pose, and remembered.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    pair, mover, move, mover_at, other_at : array_like of int
+        Per entry: the neighbour pair, the member moving (0: ``a``, 1: ``b``), the move
+        (index into ``kinematics.moves()``), the flat positions of the mover and of the other.
+
+    Returns
+    -------
+    Flags
+        One Boolean per entry (True: blocked), flattened.
+
+    Examples
+    --------
+    >>> from supcoord.problems.presets import preset_problem
+    >>> problem = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5)
+    >>> b = blocked_table(problem, 0, Mover.B)
+    >>> got = blocked_entries(problem, [0, 0], Mover.B, [0, 1], [3, 4], [5, 6])
+    >>> got.tolist() == [bool(b[0, 3, 5]), bool(b[1, 4, 6])]
+    True
+    """
+    k, side, m, i, j = (np.asarray(v, dtype=np.int64).ravel() for v in np.broadcast_arrays(pair, mover, move,
+                                                                                           mover_at, other_at))
+    held = _entry_cache(problem)
+    hits, code, n_pos = held.hits, held.code, held.n_pos
+    keys = [code(problem, kk, s) + (mv * n_pos + x) * n_pos + y
+            for kk, s, mv, x, y in zip(k.tolist(), side.tolist(), m.tolist(), i.tolist(), j.tolist())]
+    out = np.empty(len(keys), dtype=bool)
+    todo = []
+    for n, key in enumerate(keys):
+        hit = hits.get(key)
+        if hit is None:
+            todo.append(n)
+        else:
+            out[n] = hit
+    if todo:
+        sel = np.asarray(todo, dtype=np.int64)
+        got = out[sel] = _decide(problem, k[sel], side[sel], m[sel], i[sel], j[sel])
+        if len(hits) + len(todo) > ENTRY_CACHE:
+            hits.clear()
+        hits.update(zip((keys[n] for n in todo), got.tolist()))
+    return out
 
 
-def blocked_entries_of_pairs(problem: Problem, k: Any, side: Any, m: Any, i: Any, j: Any) -> np.ndarray:
-    """``B[m, i, j]`` of :func:`blocked_table` of pair ``k[e]`` and mover ``side[e]`` for every
-    entry ``e``, decided at once from the swept entries of any pairs
-    (:meth:`CollisionTables.swept_entries_of_pairs`): the entry, then (unless it is blocked
-    already) the way back from the end pose.  Each is remembered (:func:`blocked_entries`)."""
-    k, side, m, i, j = (np.asarray(v, dtype=np.int64).ravel() for v in np.broadcast_arrays(k, side, m, i, j))
-    tables, kin = problem.tables(), problem.kinematics
+def _decide(problem: Problem, k: Indices, side: Indices, m: Indices, i: Indices, j: Indices) -> Flags:
+    """:func:`blocked_entries` decided from the swept entries, none remembered."""
+    tables = problem.tables()
     nxt, rev = _successors(problem)
 
-    def swept(sel: np.ndarray, mv: np.ndarray, mover_at: np.ndarray) -> np.ndarray:
+    def swept(sel: Indices, mv: Indices, mover_at: Indices) -> Flags:
         on_b = side[sel] == 1
-        return tables.swept_entries_of_pairs(k[sel], side[sel], mv, np.where(on_b, j[sel], mover_at),
-                                             np.where(on_b, mover_at, j[sel]))
+        return tables.swept_entries(k[sel], side[sel], mv, np.where(on_b, j[sel], mover_at),
+                                    np.where(on_b, mover_at, j[sel]))
 
     got = swept(np.arange(len(k)), m, i)
     back = np.nonzero(~got & (nxt[m, i] >= 0))[0]  # the way back must be free too
     if len(back):
         got[back] = swept(back, rev[m[back]], nxt[m[back], i[back]])
-    held = _entry_cache(problem)
-    cache, code, n_pos = held.hits, held.code, held.n_pos
-    if len(cache) + len(k) > ENTRY_CACHE:
-        cache.clear()
-    for kk, s, mv, x, y, hit in zip(k.tolist(), side.tolist(), m.tolist(), i.tolist(), j.tolist(), got.tolist()):
-        cache[code(kk, s) + (mv * n_pos + x) * n_pos + y] = hit
     return got
 
 
-def _successors(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
-    """``(nxt, rev)``: ``nxt[m, i]`` the flat position after move ``m`` from ``i`` (−1 past a
-    hard stop), ``rev[m]`` the move back."""
-    held = problem.__dict__.get("_successors")
-    if held is None:
+def _successors(problem: Problem) -> tuple[Indices, Indices]:
+    """``(nxt, rev)``: ``nxt[move, at]`` the flat position after ``move`` from ``at`` (−1 past a
+    hard stop), ``rev[move]`` the move back."""
+    cache = caches_for(problem)
+    if cache.successors is None:
         kin = problem.kinematics
         moves = kin.moves()
         pos = kin.all_positions()
@@ -220,24 +308,43 @@ def _successors(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
             q, ok = kin.step_array(pos, joint, delta)
             nxt[mv, ok] = kin.flat_index(q[ok])
         rev = np.array([moves.index((joint, -delta)) for joint, delta in moves])
-        held = problem.__dict__["_successors"] = (nxt, rev)
-    return held
+        cache.successors = (nxt, rev)
+    return cache.successors
 
 
-def entry_lookup(problem: Problem) -> Callable[[int, int, int, int, int], bool | None]:
-    """``lookup(k, side, m, i, j)``: the remembered lazy entry ``B[m, i, j]`` of pair ``k``
-    (mover ``side``), None if not decided yet (a reader's fast path)."""
+class BlockedLookup(Protocol):
+    """:func:`blocked_lookup`'s reader: the remembered entry, or None if not decided yet."""
+
+    def __call__(self, pair: Pair, mover: Mover, move: MoveIndex, mover_at: Position,
+                 other_at: Position) -> bool | None: ...
+
+
+def blocked_lookup(problem: Problem) -> BlockedLookup:
+    """The reader of the entries :func:`blocked_entries` remembered: a reader's fast path, no arrays.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+
+    Returns
+    -------
+    BlockedLookup
+        ``lookup(pair, mover, move, mover_at, other_at)``: the remembered entry, None if it
+        is not decided yet.
+    """
     held = _entry_cache(problem)
     cache, code, n_pos = held.hits, held.code, held.n_pos
-    return lambda k, side, m, i, j: cache.get(code(k, side) + (m * n_pos + i) * n_pos + j)
+    return lambda pair, mover, move, mover_at, other_at: cache.get(code(problem, pair, mover)
+                                                                   + (move * n_pos + mover_at) * n_pos + other_at)
 
 
-def _move_blocked_any(problem: Problem, k: int) -> bool:
+def _move_blocked_any(problem: Problem, k: Pair) -> bool:
     """Can pair ``k`` ever block a move (a collision within the motion ranges)?"""
     kin = problem.kinematics
     pos = kin.all_positions()
-    for side in (0, 1):
-        b = blocked_table(problem, k, side)
+    for mover in Mover:
+        b = blocked_table(problem, k, mover)
         for m, (joint, delta) in enumerate(kin.moves()):
             ok = kin.step_valid(pos, joint, delta)
             if b[m, ok].any():
@@ -256,31 +363,30 @@ def _adjacency(problem: Problem, pairs: Iterable[int]) -> Adjacency:
 
 
 def pair_graph(problem: Problem) -> Adjacency:
-    """``adj[p] = [(k, q, side), …]`` over every neighbour pair (:attr:`Problem.pairs`):
+    """``adj[p] = [(k, q, mover), …]`` over every neighbour pair (:attr:`Problem.pairs`):
     the pairs that could collide at all, whether or not their tables block a move."""
-    cache = problem.__dict__.get("_pair_adj")
-    if cache is None:
-        cache = problem.__dict__["_pair_adj"] = _adjacency(problem, range(len(problem.pairs)))
-    return cache
+    cache = caches_for(problem)
+    if cache.pair_graph is None:
+        cache.pair_graph = _adjacency(problem, range(len(problem.pairs)))
+    return cache.pair_graph
 
 
 def conflict_graph(problem: Problem) -> Adjacency:
-    """``adj[p] = [(k, q, side), …]``: the neighbour pairs ``k = (p, q)`` whose tables block
-    something (pairs that can ever collide given the motion ranges); ``side`` is ``p``'s.
-    With lazy tables (:attr:`CollisionTables.lazy`) every neighbour pair: proving that a
-    pair never blocks would take its whole tables, and a pair that never blocks only costs
-    guards that are always true."""
-    cache = problem.__dict__.get("_conflict_adj")
-    if cache is None and problem.tables().lazy:
-        cache = problem.__dict__["_conflict_adj"] = pair_graph(problem)
-        _entry_cache(problem), _successors(problem)  # held now, so that copies of the problem share them
-    if cache is None:
+    """``adj[p] = [(k, q, mover), …]``: the neighbour pairs ``k = (p, q)`` whose tables block
+    something (pairs that can ever collide given the motion ranges); ``mover`` is ``p``'s
+    member of the pair.  With lazy tables (:attr:`CollisionTables.lazy`) every neighbour
+    pair: proving that a pair never blocks would take its whole tables, and a pair that
+    never blocks only costs guards that are always true."""
+    cache = caches_for(problem)
+    if cache.conflict_graph is None and problem.tables().lazy:
+        cache.conflict_graph = pair_graph(problem)
+    if cache.conflict_graph is None:
         if problem.robot_kinematics is not None or problem.unary():  # few shared tables: many pairs per call
             problem.tables().prepare(range(len(problem.pairs)))
         blocking = [k for k in range(len(problem.pairs)) if _move_blocked_any(problem, k)]
         release_free_heap()  # the blocked tables' temporaries
-        cache = problem.__dict__["_conflict_adj"] = _adjacency(problem, blocking)
-    return cache
+        cache.conflict_graph = _adjacency(problem, blocking)
+    return cache.conflict_graph
 
 
 def successor_table(kin: Kinematics, deltas: Sequence[np.ndarray]) -> np.ndarray:

@@ -148,15 +148,15 @@ class _Replanner:
             v = 0 if j0 == j1 else self.option_of(q, t)
             if u == 0 and v == 0:
                 if (r, q) in self.conflict:
-                    ok &= ~(self.tables.static_line(k, j=j0) if side == 0 else self.tables.static_line(k, i=j0))
+                    ok &= ~(self.tables.static_line(k, at_b=j0) if side == 0 else self.tables.static_line(k, at_a=j0))
             elif u == 0 and v < self.n_single:  # q turns one joint past a standing r: q's swept table
                 if (r, q) in self.conflict:
-                    # swept(k, 1 − side)[move of q, i_a, j_b], q at j0
-                    ok &= ~(self.tables.swept_line(k, 1 - side, v - 1, j=j0) if side == 0 else
-                            self.tables.swept_line(k, 1 - side, v - 1, i=j0))
+                    # swept(k, 1 − side)[move of q, at_a, at_b], q at j0
+                    ok &= ~(self.tables.swept_line(k, 1 - side, v - 1, at_b=j0) if side == 0 else
+                            self.tables.swept_line(k, 1 - side, v - 1, at_a=j0))
             elif v == 0 and u < self.n_single:  # r turns one joint past a standing q: r's swept table
-                ok &= ~(self.tables.swept_line(k, side, u - 1, j=j0) if side == 0 else
-                        self.tables.swept_line(k, side, u - 1, i=j0))
+                ok &= ~(self.tables.swept_line(k, side, u - 1, at_b=j0) if side == 0 else
+                        self.tables.swept_line(k, side, u - 1, at_a=j0))
             else:  # both move, or several joints at once: the merged motion, for every position of r at once
                 ok &= ~self.merged.hits(k, side, v, j0)[u]
         return ok

@@ -37,6 +37,7 @@ from ..bdd.context import BDD, Budget, Context
 from ..geometry.collision import motion_collides
 from ..problems.problem import Problem
 from .graph_order import cutwidth_order
+from .caches import caches_for
 from .guards import successor_table, table_bdd, var_names
 
 __all__ = ["optimal_makespan"]
@@ -48,7 +49,7 @@ def _options(problem: Problem) -> list[np.ndarray]:
 
 def _free_table(problem: Problem, k: int, options: list[np.ndarray], valid: np.ndarray) -> np.ndarray:
     """``F[u, v, i, j]`` of pair ``k`` (False where a delta leaves the joint ranges)."""
-    cache = problem.__dict__.setdefault("_free_sim_cache", {})
+    cache = caches_for(problem).free_simultaneous
     a, b = (int(x) for x in problem.pairs[k])
     key = problem.geometry_key(a, b)
     off = key[:2]
@@ -82,78 +83,15 @@ def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, 
     of it); the path's other rows stay at their start.
     """
     t0 = time.perf_counter()
-    kin = problem.kinematics
     robots = list(range(problem.n)) if members is None else sorted({int(p) for p in members})
-    inside = set(robots)
-    options = _options(problem)
-    pos = kin.all_positions()
-    nxt = successor_table(kin, options)
-    valid = nxt >= 0
-    order = cutwidth_order(problem, robots)
-    ctx = Context(backend, budget=budget)
-    for p in order:
-        for name, jt in zip(var_names(problem, p), kin.joints):
-            ctx.add_variable(name, jt.steps)
-    names = {p: var_names(problem, p) for p in robots}
-
-    def delta_rel(p: int, u: int) -> BDD:
-        """``[x'_p = x_p + u]`` as a BDD over the current and next bits of ``p`` (where ``p``'s
-        own constraints allow it: obstacles, held in place)."""
-        r = ctx.false
-        ok = valid[u].copy()
-        if p in problem.unary():
-            sel = np.nonzero(ok)[0]
-            ok[sel] = ~problem.own_motion_blocked(p, pos[sel], options[u])
-        for i in np.nonzero(ok)[0]:
-            cur = {nm: int(v) for nm, v in zip(names[p], pos[i])}
-            new = {nm: int(v) for nm, v in zip(names[p], pos[nxt[u, i]])}
-            r |= ctx.assignment(cur) & ctx.assignment(new, primed=True)
-        return r
-
-    steps = {(p, u): delta_rel(p, u) for p in robots for u in range(len(options))}
-    conjuncts: list[tuple[set[int], BDD]] = []
-    for p in robots:
-        r = ctx.false
-        for u in range(len(options)):
-            r |= steps[(p, u)]
-        conjuncts.append(({p}, r))
-    for k, (a, b) in enumerate(problem.pairs):
-        a, b = int(a), int(b)
-        if a not in inside or b not in inside:
-            continue
-        free = _free_table(problem, k, options, valid)
-        c = ctx.false
-        for u in range(len(options)):
-            for v in range(len(options)):
-                if not free[u, v].any():
-                    continue
-                f = table_bdd(ctx, free[u, v].reshape(kin.shape * 2), names[a] + names[b])
-                c |= steps[(a, u)] & steps[(b, v)] & f
-        conjuncts.append(({a, b}, c))
-    where = {p: i for i, p in enumerate(order)}
-    conjuncts.sort(key=lambda sc: min(where[p] for p in sc[0]))
-    last_use = {p: max(i for i, (s, _) in enumerate(conjuncts) if p in s) for p in robots}
-    quantify_after: dict[int, list[str]] = {}
-    for p, i in last_use.items():
-        quantify_after.setdefault(i, []).extend(ctx.bits(names[p]))
-    every = [n for p in robots for n in names[p]]
-
-    def image(x: BDD, k: int) -> BDD:
-        for i, (_, rel) in enumerate(conjuncts):
-            ctx.check_budget("optimal makespan", iteration=k)  # one image can take minutes
-            q = quantify_after.get(i, [])
-            x = ctx.and_exist(x, rel, q) if q else x & rel  # ∃ x_p as soon as nothing else reads it
-        return ctx.unprime(x, every)
-
-    def config(c: np.ndarray) -> BDD:
-        return ctx.assignment({n: int(v) for p in robots for n, v in zip(names[p], c[p])})
-
-    start, goal = config(problem.start), config(problem.target)
+    T = _Transitions(problem, robots, Context(backend, budget=budget))
+    ctx = T.ctx
+    start, goal = T.config(problem.start), T.config(problem.target)
     frontier, seen, sizes, layers = start, start, [1], [start]
     k = 0
     while frontier & goal == ctx.false:
         ctx.check_budget("optimal makespan", iteration=k)
-        frontier = image(frontier, k) & ~seen  # F(k+1) = Img(F(k)) \ W(k)
+        frontier = T.image(frontier, k) & ~seen  # F(k+1) = Img(F(k)) \ W(k)
         if frontier == ctx.false:
             out = {"makespan": None, "layers": sizes, "seconds": time.perf_counter() - t0,
                    "bdd_nodes": ctx.peak_nodes()}
@@ -165,8 +103,91 @@ def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, 
         k += 1
     out = {"makespan": k, "layers": sizes, "seconds": time.perf_counter() - t0, "bdd_nodes": ctx.peak_nodes()}
     if want_path:
-        out["path"] = _path_back(ctx, problem, robots, names, layers, conjuncts, every)
+        out["path"] = _path_back(ctx, problem, robots, T.names, layers, T.conjuncts, T.every)
     return out
+
+
+class _Transitions:
+    """The simultaneous transition relation ``T`` of the positioners ``robots`` as a
+    conjunction: one conjunct per robot (its own steps) and one per pair inside (the free
+    table of their steps), in the order of the variables; :meth:`image` quantifies each
+    robot's current bits after the last conjunct that reads them."""
+
+    def __init__(self, problem: Problem, robots: list[int], ctx: Context):
+        self.problem, self.robots, self.ctx = problem, robots, ctx
+        kin = problem.kinematics
+        self.options = _options(problem)
+        self.pos = kin.all_positions()
+        self.nxt = successor_table(kin, self.options)
+        self.valid = self.nxt >= 0
+        order = cutwidth_order(problem, robots)
+        for p in order:
+            for name, jt in zip(var_names(problem, p), kin.joints):
+                ctx.add_variable(name, jt.steps)
+        self.names = {p: var_names(problem, p) for p in robots}
+        self.conjuncts = self._conjuncts()
+        where = {p: i for i, p in enumerate(order)}
+        self.conjuncts.sort(key=lambda sc: min(where[p] for p in sc[0]))
+        last_use = {p: max(i for i, (s, _) in enumerate(self.conjuncts) if p in s) for p in robots}
+        self.quantify_after: dict[int, list[str]] = {}
+        for p, i in last_use.items():
+            self.quantify_after.setdefault(i, []).extend(ctx.bits(self.names[p]))
+        self.every = [n for p in robots for n in self.names[p]]
+
+    def _delta_rel(self, p: int, u: int) -> BDD:
+        """``[x'_p = x_p + u]`` as a BDD over the current and next bits of ``p`` (where ``p``'s
+        own constraints allow it: obstacles, held in place)."""
+        ctx, pos, nxt, names = self.ctx, self.pos, self.nxt, self.names
+        r = ctx.false
+        ok = self.valid[u].copy()
+        if p in self.problem.unary():
+            sel = np.nonzero(ok)[0]
+            ok[sel] = ~self.problem.own_motion_blocked(p, pos[sel], self.options[u])
+        for i in np.nonzero(ok)[0]:
+            cur = {nm: int(v) for nm, v in zip(names[p], pos[i])}
+            new = {nm: int(v) for nm, v in zip(names[p], pos[nxt[u, i]])}
+            r |= ctx.assignment(cur) & ctx.assignment(new, primed=True)
+        return r
+
+    def _conjuncts(self) -> list[tuple[set[int], BDD]]:
+        """One conjunct per robot, then one per neighbour pair with both members inside."""
+        ctx, problem, robots, n_options = self.ctx, self.problem, self.robots, len(self.options)
+        steps = {(p, u): self._delta_rel(p, u) for p in robots for u in range(n_options)}
+        out: list[tuple[set[int], BDD]] = []
+        for p in robots:
+            r = ctx.false
+            for u in range(n_options):
+                r |= steps[(p, u)]
+            out.append(({p}, r))
+        inside = set(robots)
+        for k, (a, b) in enumerate(problem.pairs):
+            a, b = int(a), int(b)
+            if a not in inside or b not in inside:
+                continue
+            free = _free_table(problem, k, self.options, self.valid)
+            c = ctx.false
+            for u in range(n_options):
+                for v in range(n_options):
+                    if not free[u, v].any():
+                        continue
+                    f = table_bdd(ctx, free[u, v].reshape(problem.kinematics.shape * 2),
+                                  self.names[a] + self.names[b])
+                    c |= steps[(a, u)] & steps[(b, v)] & f
+            out.append(({a, b}, c))
+        return out
+
+    def image(self, x: BDD, k: int) -> BDD:
+        """The configurations one simultaneous step after ``x`` (``k``: the layer, for budgets)."""
+        ctx = self.ctx
+        for i, (_, rel) in enumerate(self.conjuncts):
+            ctx.check_budget("optimal makespan", iteration=k)  # one image can take minutes
+            q = self.quantify_after.get(i, [])
+            x = ctx.and_exist(x, rel, q) if q else x & rel  # ∃ x_p as soon as nothing else reads it
+        return ctx.unprime(x, self.every)
+
+    def config(self, c: np.ndarray) -> BDD:
+        """The BDD of configuration ``c`` restricted to the robots."""
+        return self.ctx.assignment({n: int(v) for p in self.robots for n, v in zip(self.names[p], c[p])})
 
 
 def _path_back(ctx: Context, problem: Problem, robots: list[int], names: dict[int, list[str]], layers: list[BDD],

@@ -51,74 +51,104 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
     plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured).
     None too where the pair's product of positions exceeds :data:`PAIR_STATES` (not tried)."""
-    npos, n_opt = len(rp.pos), len(rp.deltas)
+    npos = len(rp.pos)
     if npos * npos > PAIR_STATES:
         return None
-    problem = rp.problem
-    dist = rp.tables.distance_view(k)
-    dist = dist if side == 0 else dist.T  # [position of r, position of b]
-    bsum = float(problem.buffers[r] + problem.buffers[b])
-    deltas = np.asarray(rp.deltas)
-    known = rp.merged_cache.get(("pair", k, side))  # 0: not computed yet, 1 free, 2 collides
-    if known is None:  # kept for the pair's next calls
-        known = rp.merged_cache["pair", k, side] = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
-
-    def pair_free(u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
-        """Is ``r`` doing ``u`` from ``ii`` while ``b`` does ``v`` from ``jj`` free (entries)?"""
-        state = known[u, v, ii, jj]
-        todo = np.nonzero(state == 0)[0]
-        if len(todo):
-            u, v, ii, jj = u[todo], v[todo], ii[todo], jj[todo]
-            hit = prefiltered_motion_collides(problem.kin(r), problem.bases[r], rp.pos, ii, rp.nxt[u, ii], deltas[u],
-                                              problem.kin(b), problem.bases[b], jj, rp.nxt[v, jj], deltas[v], bsum,
-                                              dist)
-            state[todo] = known[u, v, ii, jj] = np.where(hit, 2, 1)
-        return state == 1
-
-    goals = [int(rp.kin.flat_index(rp.problem.target[x])) for x in (r, b)]
-    saved = set(rp.absent)
-    try:
-        rp.absent = saved | {b}
-        rp.prefetch(r, horizon)
-        stay_r = rp.stay_from(r, goals[0], horizon)
-        masks_r = [[rp.allowed_mask(r, t, u) for u in range(n_opt)] for t in range(horizon)]
-        rp.absent = saved | {r}
-        rp.prefetch(b, horizon)
-        stay_b = rp.stay_from(b, goals[1], horizon)
-        masks_b = [[rp.allowed_mask(b, t, v) for v in range(n_opt)] for t in range(horizon)]
-    finally:
-        rp.absent = saved
+    motions = _PairMotions(rp, r, b, k, side)
+    goals = (int(rp.kin.flat_index(rp.problem.target[r])), int(rp.kin.flat_index(rp.problem.target[b])))
+    (stay_r, masks_r), (stay_b, masks_b) = _alone(rp, r, b, goals[0], horizon), _alone(rp, b, r, goals[1], horizon)
     reach = np.zeros((npos, npos), dtype=bool)
     reach[int(rp.traj[0, r]), int(rp.traj[0, b])] = True
     parents: list[np.ndarray] = []
     for t in range(min(before, horizon + 1)):
-        if reach[goals[0], goals[1]] and stay_r[t] and stay_b[t]:
-            break
+        if reach[goals] and stay_r[t] and stay_b[t]:
+            return _read_back(rp, r, b, goals, parents)
         if t == horizon:
             return None
-        par = np.full(npos * npos, -1, dtype=np.int64)
-        new = np.zeros(npos * npos, dtype=bool)
-        parts = []
-        for u in range(n_opt):
-            from_r = reach & masks_r[t][u][:, None]
-            if from_r.any():
-                for v in range(n_opt):
-                    ii, jj = np.nonzero(from_r & masks_b[t][v][None, :])
-                    parts.append((np.full(len(ii), u), np.full(len(ii), v), ii, jj))
-        if parts:
-            uu, vv, ii, jj = (np.concatenate(x) for x in zip(*parts))
-            free = pair_free(uu, vv, ii, jj)
-            uu, vv, ii, jj = uu[free], vv[free], ii[free], jj[free]
-            dst = rp.nxt[uu, ii] * npos + rp.nxt[vv, jj]
-            first = np.unique(dst, return_index=True)[1]  # one parent per state: the first in option order
-            par[dst[first]] = (ii * npos + jj)[first]
-            new[dst] = True
+        par, reach = _layer(rp, motions, reach, masks_r[t], masks_b[t])
         parents.append(par)
-        reach = new.reshape(npos, npos)
         if not reach.any():
             return None
-    else:
-        return None
+    return None
+
+
+def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, list[list[np.ndarray]]]:
+    """``(stay, masks)`` of ``x`` against every trajectory but ``other``'s: whether it may stand
+    at ``goal`` from step ``t`` on (``stay[t]``), and ``masks[t][u]``: the positions from which
+    it may do option ``u`` during step ``t``."""
+    saved = set(rp.absent)
+    try:
+        rp.absent = saved | {other}
+        rp.prefetch(x, horizon)
+        stay = rp.stay_from(x, goal, horizon)
+        masks = [[rp.allowed_mask(x, t, u) for u in range(len(rp.deltas))] for t in range(horizon)]
+    finally:
+        rp.absent = saved
+    return stay, masks
+
+
+class _PairMotions:
+    """Whether ``r`` and ``b`` moving together over one step is free, for the entries asked
+    (:func:`~supcoord.geometry.motion.prefiltered_motion_collides`), remembered in the
+    re-planner's cache for the pair's next calls."""
+
+    def __init__(self, rp: Any, r: int, b: int, k: int, side: int):
+        self.rp, self.r, self.b = rp, r, b
+        problem = rp.problem
+        dist = rp.tables.distance_view(k)
+        self.dist = dist if side == 0 else dist.T  # [position of r, position of b]
+        self.bsum = float(problem.buffers[r] + problem.buffers[b])
+        self.deltas = np.asarray(rp.deltas)
+        npos, n_opt = len(rp.pos), len(rp.deltas)
+        known = rp.merged_cache.get(("pair", k, side))  # 0: not computed yet, 1 free, 2 collides
+        if known is None:
+            known = rp.merged_cache["pair", k, side] = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
+        self.known = known
+
+    def free(self, u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
+        """Is ``r`` doing ``u`` from ``ii`` while ``b`` does ``v`` from ``jj`` free (entries)?"""
+        rp, problem, known, r, b = self.rp, self.rp.problem, self.known, self.r, self.b
+        state = known[u, v, ii, jj]
+        todo = np.nonzero(state == 0)[0]
+        if len(todo):
+            u, v, ii, jj = u[todo], v[todo], ii[todo], jj[todo]
+            hit = prefiltered_motion_collides(problem.kin(r), problem.bases[r], rp.pos, ii, rp.nxt[u, ii],
+                                              self.deltas[u], problem.kin(b), problem.bases[b], jj, rp.nxt[v, jj],
+                                              self.deltas[v], self.bsum, self.dist)
+            state[todo] = known[u, v, ii, jj] = np.where(hit, 2, 1)
+        return state == 1
+
+
+def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: list[np.ndarray],
+           masks_b: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """``(parents, reach')``: the pair states one step after ``reach`` and the parent of each
+    (flat ``i · P + j``, −1 where none: the first in option order)."""
+    npos, n_opt = len(rp.pos), len(rp.deltas)
+    par = np.full(npos * npos, -1, dtype=np.int64)
+    new = np.zeros(npos * npos, dtype=bool)
+    parts = []
+    for u in range(n_opt):
+        from_r = reach & masks_r[u][:, None]
+        if from_r.any():
+            for v in range(n_opt):
+                ii, jj = np.nonzero(from_r & masks_b[v][None, :])
+                parts.append((np.full(len(ii), u), np.full(len(ii), v), ii, jj))
+    if parts:
+        uu, vv, ii, jj = (np.concatenate(x) for x in zip(*parts))
+        free = motions.free(uu, vv, ii, jj)
+        uu, vv, ii, jj = uu[free], vv[free], ii[free], jj[free]
+        dst = rp.nxt[uu, ii] * npos + rp.nxt[vv, jj]
+        first = np.unique(dst, return_index=True)[1]  # one parent per state: the first in option order
+        par[dst[first]] = (ii * npos + jj)[first]
+        new[dst] = True
+    return par, new.reshape(npos, npos)
+
+
+def _read_back(rp: Any, r: int, b: int, goals: tuple[int, int],
+               parents: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The pair's trajectories arriving at ``goals`` after ``len(parents)`` steps, read back
+    through the parents; every later step stands at the goal."""
+    npos = len(rp.pos)
     path = [goals[0] * npos + goals[1]]
     for par in reversed(parents):
         path.append(int(par[path[-1]]))

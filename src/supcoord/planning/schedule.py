@@ -43,69 +43,101 @@ from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
 from .descent import motion_free
-from .guards import blocked_entries_of_pairs, conflict_graph, entry_lookup, is_blocked, pair_graph
+from .guards import blocked_entries, blocked_entry, blocked_lookup, conflict_graph, pair_graph
 
 __all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
 
 
 def asap_schedule(problem: Problem, moves: Sequence[Move], tol: float = DEFAULT_TOL) -> list[np.ndarray]:
-    """Configurations ``c_0 = start, …, c_T`` of the as-soon-as-possible schedule."""
-    kin = problem.kinematics
-    n, nj = problem.n, kin.n_joints
-    nbrs = [[q for _, q, _ in row] for row in pair_graph(problem)]
-    pair_of = {(p, q): (k, side) for p, row in enumerate(pair_graph(problem)) for k, q, side in row}
-    move_index = {mv: m for m, mv in enumerate(kin.moves())}
-    last_joint = np.full((n, nj), -1, dtype=np.int64)  # step of the last move of (p, j)
-    last_any = np.full(n, -1, dtype=np.int64)
-    cur = problem.start.astype(np.int64).copy()  # position after all moves placed so far
-    deltas: dict[int, dict[int, np.ndarray]] = {}  # step -> {p: delta}
-    for k, (p, joint, d) in enumerate(moves):
-        nxt = checked_step(kin, cur[p], k, (p, joint, d))
-        s_min = max(int(last_joint[p, joint]) + 1, int(last_any[p]), max((int(last_any[q]) for q in nbrs[p]), default=-1))
+    """Configurations ``c_0 = start, …, c_T`` of the as-soon-as-possible schedule.
+
+    Moves are placed in sequence order; move ``m_k`` of joint ``j`` of ``p`` goes to the
+    earliest step ``s_min`` after the last step of joint ``j`` of ``p`` and no earlier than
+    the last step of ``p`` and of each of its neighbours, if it is free there together with
+    the moves already at ``s_min`` (:meth:`_Asap.fits`), else to ``s_min + 1``.
+    """
+    asap = _Asap(problem, tol)
+    for k, move in enumerate(moves):
+        asap.place(k, move)
+    return asap.configurations()
+
+
+class _Asap:
+    """The steps of the moves placed so far by :func:`asap_schedule`."""
+
+    def __init__(self, problem: Problem, tol: float):
+        kin = problem.kinematics
+        self.problem, self.kin, self.tol = problem, kin, tol
+        n, nj = problem.n, kin.n_joints
+        self.nbrs = [[q for _, q, _ in row] for row in pair_graph(problem)]
+        self.pair_of = {(p, q): (k, side) for p, row in enumerate(pair_graph(problem)) for k, q, side in row}
+        self.move_index = {mv: m for m, mv in enumerate(kin.moves())}
+        self.last_joint = np.full((n, nj), -1, dtype=np.int64)  # step of the last move of (p, j)
+        self.last_any = np.full(n, -1, dtype=np.int64)
+        self.cur = problem.start.astype(np.int64).copy()  # position after all moves placed so far
+        self.deltas: dict[int, dict[int, np.ndarray]] = {}  # step -> {p: delta}
+
+    def place(self, k: int, move: Move) -> None:
+        """Put move number ``k`` at the earliest step it may take (:func:`asap_schedule`)."""
+        p, joint, d = move
+        nxt = checked_step(self.kin, self.cur[p], k, (p, joint, d))
+        s_min = max(int(self.last_joint[p, joint]) + 1, int(self.last_any[p]),
+                    max((int(self.last_any[q]) for q in self.nbrs[p]), default=-1))
         s_min = max(s_min, 0)
-        s = s_min
-        at = deltas.get(s, {})
-        busy = [q for q in nbrs[p] if q in at]
-        if busy or p in at:
-            dp = at.get(p, np.zeros(nj, dtype=np.int64)).copy()
-            dp[joint] += d
-            start_p = problem.kin(p).wrap(cur[p] - at[p]) if p in at else cur[p]  # a wrapping joint may have wrapped
-            qs = nbrs[p]
-            if p in at and problem.own_motion_blocked(p, start_p, dp, tol)[0]:
-                s = s_min + 1  # several joints at once past a fixed obstacle
-            elif qs:
-                single = np.count_nonzero(dp) == 1
-                standing = [q for q in qs if q not in at]
-                if single and standing:  # against a standing neighbour one joint's turn is the exact swept table's entry
-                    m = move_index[(int(np.nonzero(dp)[0][0]), int(dp[np.nonzero(dp)[0][0]]))]
-                    i = kin.flat_position(start_p)
-                    ks, sides = np.array([pair_of[(p, q)] for q in standing]).T
-                    js = np.array([kin.flat_position(cur[q]) for q in standing])
-                    if problem.tables().swept_bits(ks, sides, m, np.where(sides == 0, i, js),
-                                                   np.where(sides == 0, js, i)).any():
-                        s = s_min + 1
-                moving = [q for q in qs if q in at or not single]
-                if s == s_min:
-                    for q in moving:
-                        k_pair, side = pair_of[(p, q)]
-                        start_q = problem.kin(q).wrap(cur[q] - at[q]) if q in at else cur[q]
-                        if not motion_free(problem, k_pair, side, start_p, dp, start_q, at.get(q), tol):
-                            s = s_min + 1
-                            break
-            else:
-                s = s_min if p not in at or at[p][joint] == 0 else s_min + 1
-        step_map = deltas.setdefault(s, {})
-        step_map.setdefault(p, np.zeros(nj, dtype=np.int64))[joint] += d
-        last_joint[p, joint] = s
-        last_any[p] = max(last_any[p], s)
-        cur[p] = nxt
-    out = [problem.start.copy()]
-    c = problem.start.astype(np.int64).copy()
-    for s in range(max(deltas, default=-1) + 1):
-        for p, dp in deltas.get(s, {}).items():
-            c[p] = kin.wrap(c[p] + dp)
-        out.append(c.copy())
-    return out
+        s = s_min if self.fits(p, joint, d, s_min) else s_min + 1
+        step_map = self.deltas.setdefault(s, {})
+        step_map.setdefault(p, np.zeros(self.kin.n_joints, dtype=np.int64))[joint] += d
+        self.last_joint[p, joint] = s
+        self.last_any[p] = max(self.last_any[p], s)
+        self.cur[p] = nxt
+
+    def fits(self, p: int, joint: int, d: int, s: int) -> bool:
+        """May ``p`` turn ``joint`` by ``d`` during step ``s``, merged with its own move there and
+        beside its neighbours' moves there?"""
+        problem, at, qs = self.problem, self.deltas.get(s, {}), self.nbrs[p]
+        if p not in at and not any(q in at for q in qs):
+            return True
+        nj = self.kin.n_joints
+        dp = at.get(p, np.zeros(nj, dtype=np.int64)).copy()
+        dp[joint] += d
+        start_p = problem.kin(p).wrap(self.cur[p] - at[p]) if p in at else self.cur[p]  # a wrapping joint may have wrapped
+        if p in at and problem.own_motion_blocked(p, start_p, dp, self.tol)[0]:
+            return False  # several joints at once past a fixed obstacle
+        if not qs:
+            return bool(at[p][joint] == 0)
+        single = np.count_nonzero(dp) == 1
+        standing = [q for q in qs if q not in at]
+        if single and standing and self._turn_hits(p, dp, start_p, standing):
+            return False
+        for q in (q for q in qs if q in at or not single):
+            k_pair, side = self.pair_of[(p, q)]
+            start_q = problem.kin(q).wrap(self.cur[q] - at[q]) if q in at else self.cur[q]
+            if not motion_free(problem, k_pair, side, start_p, dp, start_q, at.get(q), self.tol):
+                return False
+        return True
+
+    def _turn_hits(self, p: int, dp: np.ndarray, start_p: np.ndarray, standing: list[int]) -> bool:
+        """Does ``p`` turning its one joint by ``dp`` from ``start_p`` hit a neighbour of
+        ``standing``?  Against a standing neighbour one joint's turn is the exact swept
+        table's entry (:meth:`CollisionTables.swept_entries`)."""
+        joint = int(np.nonzero(dp)[0][0])
+        m = self.move_index[(joint, int(dp[joint]))]
+        i = self.kin.flat_position(start_p)
+        ks, sides = np.array([self.pair_of[(p, q)] for q in standing]).T
+        js = np.array([self.kin.flat_position(self.cur[q]) for q in standing])
+        return bool(self.problem.tables().swept_entries(ks, sides, m, np.where(sides == 0, i, js),
+                                                        np.where(sides == 0, js, i)).any())
+
+    def configurations(self) -> list[np.ndarray]:
+        """``c_0 … c_T`` of the placed moves."""
+        problem, kin = self.problem, self.kin
+        out = [problem.start.copy()]
+        c = problem.start.astype(np.int64).copy()
+        for s in range(max(self.deltas, default=-1) + 1):
+            for p, dp in self.deltas.get(s, {}).items():
+                c[p] = kin.wrap(c[p] + dp)
+            out.append(c.copy())
+        return out
 
 
 SCHEDULES = ("timeline", "asap", "best")
@@ -197,7 +229,7 @@ class _Placer:
             for k, q, side in row:
                 self.side_of[(p, q)] = (k, side)
         self.pair_nbrs = pair_graph(problem)
-        self.lookup = entry_lookup(problem) if problem.tables().lazy else None
+        self.lookup = blocked_lookup(problem) if problem.tables().lazy else None
         self.tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(problem.n)]
 
     def single(self, d: np.ndarray) -> int | None:
@@ -211,11 +243,11 @@ class _Placer:
         if dq is None and mp is not None:
             ks = self.side_of.get((p, q))
             flat = self.kin.flat_position
-            return ks is None or not is_blocked(self.problem, ks[0], ks[1], mp, flat(x), flat(y))
+            return ks is None or not blocked_entry(self.problem, ks[0], ks[1], mp, flat(x), flat(y))
         return motion_free(self.problem, k, side, x, dp, y, dq, self.tol)
 
     def _prefetch(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> None:
-        """Lazy tables: decide at once (:func:`.guards.blocked_entries_of_pairs`) every entry of a
+        """Lazy tables: decide at once (:func:`.guards.blocked_entries`) every entry of a
         single move against a standing neighbour that :meth:`fits` may read."""
         flat, lookup = self.kin.flat_position, self.lookup
         cells = []
@@ -236,7 +268,7 @@ class _Placer:
                     cells.append((ks[0], ks[1], mq, flat(t.pos[idx]), end))
         cells = [c for c in cells if lookup(*c) is None]
         if cells:
-            blocked_entries_of_pairs(self.problem, *np.array(cells).T)
+            blocked_entries(self.problem, *np.array(cells).T)
 
     def fits(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> bool:
         """Both conditions of :func:`timeline_schedule` for ``p`` moving ``x → x_end`` (by

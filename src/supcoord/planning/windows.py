@@ -100,7 +100,7 @@ from ..problems.plan import Move
 from ..problems.problem import Problem
 from .descent import descent
 from .graph_order import conflict_components
-from .guards import conflict_graph, is_blocked
+from .guards import blocked_entry, conflict_graph
 from .model import CoordinationModel
 from .search import WindowBudget, blockers, search, shortest_moves
 from .solve_stats import WindowStats
@@ -482,7 +482,7 @@ def path_blockers(problem: Problem, moves: list[Move], c: np.ndarray, members: s
         i = int(kin.flat_index(x[q]))
         m = idx[(joint, d)]
         for k, r, side in adj[q]:
-            if r not in members and r not in found and is_blocked(problem, k, side, m, i, int(flat_c[r])):
+            if r not in members and r not in found and blocked_entry(problem, k, side, m, i, int(flat_c[r])):
                 found.add(r)
         x[q] = kin.step(x[q], joint, d)
     return sorted(found)

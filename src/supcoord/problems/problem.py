@@ -188,10 +188,7 @@ class Problem:
     def geometry_key(self, a: int, b: int) -> tuple:
         """What the collision geometry of robots ``a`` and ``b`` depends on: their offset, buffer
         sum and kinematics (:meth:`CollisionTables`' sharing key); equal keys, equal tables."""
-        off = np.round(self.bases[b] - self.bases[a], 9) + 0.0
-        ids = self.tables()._ids
-        return (float(off[0]), float(off[1]), round(float(self.buffers[a] + self.buffers[b]), 9), int(ids[a]),
-                int(ids[b]))
+        return self.tables().geometry_key(a, b)
 
     def pair_geometry_key(self, k: int) -> tuple:
         """:meth:`geometry_key` of the neighbour pair ``k`` (:attr:`pairs`), computed once per pair."""
