@@ -3,6 +3,7 @@ and the readers of the pair tables share one vocabulary (:mod:`supcoord.geometry
 
 from __future__ import annotations
 
+import dataclasses
 import gc
 
 import numpy as np
@@ -28,9 +29,9 @@ def _problem(seed: int = 0):
 
 def _lazy(problem):
     """``problem`` with lazy collision tables (entries decided as read)."""
-    problem._tables = CollisionTables(problem.kinematics, problem.bases, problem.buffers,
-                                      kins=problem.robot_kinematics, unary=problem.unary(), lazy=True)
-    return problem
+    return dataclasses.replace(problem, _tables=CollisionTables(problem.kinematics, problem.bases, problem.buffers,
+                                                                kins=problem.robot_kinematics, unary=problem.unary(),
+                                                                lazy=True))
 
 
 @pytest.mark.timeout(30)
@@ -38,7 +39,7 @@ def _lazy(problem):
 def test_planning_writes_nothing_onto_the_problem_or_its_kinematics(lazy):
     problem = _problem()
     if lazy:
-        _lazy(problem)
+        problem = _lazy(problem)
     before = set(vars(problem))
     steps, _ = descent(problem, problem.start, max_steps=3)
     moves = [mv for step in steps for mv in step]
@@ -109,7 +110,7 @@ def test_many_pairs_at_once_read_like_the_whole_tables(lazy):
     whole = {(k, mv): (problem.tables().swept(k, mv), blocked_table(problem, k, mv))
              for k in range(len(problem.pairs)) for mv in Mover}
     if lazy:
-        _lazy(problem)
+        problem = _lazy(problem)
     tables = problem.tables()
     rng = np.random.default_rng(0)
     n_moves, n_pos = len(problem.kinematics.moves()), problem.kinematics.n_positions
