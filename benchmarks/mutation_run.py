@@ -56,7 +56,7 @@ TARGETS = [
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
     Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py",)),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
-           ("tests/test_reachability.py", "tests/test_reachability_within.py")),
+           ("tests/test_reachability.py", "tests/test_reachability_within.py", "tests/test_reachability_names.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
            ("tests/test_forcibility.py", "tests/test_witness.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_bulk.py", "des/io/gen_write.py"),
