@@ -92,7 +92,41 @@ def _prepare(t: Target, work: Path) -> Path:
     return d
 
 
+def _verdicts(d: Path) -> dict[Path, dict]:
+    """mutmut's kept results of a run folder: ``*.meta`` file -> its JSON."""
+    import json
+
+    return {m: json.loads(m.read_text()) for m in (d / "mutants").rglob("*.meta")} if (d / "mutants").is_dir() else {}
+
+
+def _restore(before: dict[Path, dict]) -> None:
+    """Put back the verdicts a new run of some mutants forgot (mutmut regenerates the
+    mutants of a fresh copy of ``src/`` and clears the others' results): a mutant whose
+    function is unchanged (same hash) and that this run did not decide keeps its verdict."""
+    import json
+
+    for path, old in before.items():
+        if not path.exists():
+            continue
+        new = json.loads(path.read_text())
+        same = {f for f, h in old.get("hash_by_function_name", {}).items()
+                if new.get("hash_by_function_name", {}).get(f) == h}
+        changed = False
+        for key, code in old.get("exit_code_by_key", {}).items():
+            func = key.rsplit(".", 1)[-1].rsplit("__mutmut_", 1)[0]
+            if code is not None and new["exit_code_by_key"].get(key, code) is None and func in same:
+                new["exit_code_by_key"][key] = code
+                if key in old.get("durations_by_key", {}):
+                    new.setdefault("durations_by_key", {})[key] = old["durations_by_key"][key]
+                changed = True
+        if changed:
+            tmp = path.with_suffix(".meta.tmp")
+            tmp.write_text(json.dumps(new, indent=4))
+            os.replace(tmp, path)
+
+
 def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] = ()) -> dict:
+    before = _verdicts(work / t.name)
     d = _prepare(t, work)
     env = dict(os.environ, HYPOTHESIS_PROFILE="quick")
     env.pop("PYTHONPATH", None)
@@ -105,6 +139,7 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
         except subprocess.TimeoutExpired:
             code = "time limit"
     seconds = time.time() - t0
+    _restore(before)
     (d / "run.json").write_text(f'{{"seconds": {seconds:.0f}, "exit": "{code}", '
                                 f'"finished": "{time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}"}}\n')
     return {"seconds": seconds, "exit": code}
@@ -198,7 +233,7 @@ def report(work: Path, out: Path) -> None:
             continue
         meta = (work / t.name / "run.json").read_text() if (work / t.name / "run.json").exists() else "{}"
         counts = Counter("killed" if s in ("killed", "timeout", "segfault") else s for s in st.values())
-        note = notes.get(t.name, {})
+        note = _by_name(notes.get(t.name, {}), st)
         survivors = sorted(n for n, s in st.items() if s in ("survived", "suspicious"))
         equivalent = [n for n in survivors if note.get(n, "").startswith("equivalent")]
         untested = sorted(n for n, s in st.items() if s == "no tests")
@@ -221,6 +256,16 @@ def report(work: Path, out: Path) -> None:
     tmp.write_text(text)
     os.replace(tmp, out)
     print(text)
+
+
+def _by_name(note: dict[str, str], st: dict[str, str]) -> dict[str, str]:
+    """``note`` keyed by the mutants of ``st``: a kept run from before a function moved to
+    another file of the module (``x_f__mutmut_3`` in ``a.py``, noted in ``b.py``) finds its
+    note by the function's mutant name when that name is noted once."""
+    tails = Counter(k.rsplit(".", 1)[-1] for k in note)
+    by_tail = {k.rsplit(".", 1)[-1]: v for k, v in note.items() if tails[k.rsplit(".", 1)[-1]] == 1}
+    return {n: note.get(n, by_tail.get(n.rsplit(".", 1)[-1], "")) for n in st if n in note
+            or n.rsplit(".", 1)[-1] in by_tail}
 
 
 def _short(meta: str) -> str:
