@@ -78,3 +78,17 @@ def test_the_explicit_twins_follow_the_events_and_name_given():
     assert coreachable_naive(chain, events=["b"]) == {1, 2}
     assert coreachable_naive(chain, events=["a"]) == {2}
     assert trim_naive(chain, "kept").name == "kept"
+
+
+@pytest.mark.parametrize("within", [False, True])
+@pytest.mark.parametrize("method", METHODS)
+def test_a_budget_spent_by_the_first_image_stops_at_iteration_one(method, within):
+    ring = [Generator(8, [Event(f"a{i}", True)], [(q, f"a{i}", (q + 1) % 8) for q in range(8)], 0, [0], f"R{i}")
+            for i in range(3)]
+    ctx = Context(budget=Budget(max_nodes=1))
+    G = S.sync(*[from_explicit(ctx, g) for g in ring])
+    with pytest.raises(BudgetExceeded) as caught:
+        reachable(G, within=G.invariant if within else None, method=method)
+    stats = caught.value.stats
+    del caught, G  # the traceback holds BDD nodes: free them before their manager
+    assert stats["iteration"] == 1
