@@ -54,7 +54,7 @@ TARGETS = [
            ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
-    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py",)),
+    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py", "tests/test_supcon_lift.py")),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
            ("tests/test_reachability.py", "tests/test_reachability_within.py",
             "tests/test_reachability_names.py", "tests/test_reachability_schedules.py")),

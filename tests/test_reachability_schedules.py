@@ -92,3 +92,18 @@ def test_a_budget_spent_by_the_first_image_stops_at_iteration_one(method, within
     stats = caught.value.stats
     del caught, G  # the traceback holds BDD nodes: free them before their manager
     assert stats["iteration"] == 1
+
+
+@pytest.mark.parametrize("forward", [True, False])
+@pytest.mark.parametrize("method", METHODS)
+def test_a_fixpoint_longer_than_saturations_plain_phase_is_complete(method, forward):
+    """Two independent 300-state chains: the deeper chain's local fixpoint alone takes 300
+    images, more than saturation's plain phase before the local closures take over; the
+    fixpoint must go on to the other chain (300 × 300 states)."""
+    n = 300
+    ctx = Context()
+    chains = [from_explicit(ctx, Generator(n, [Event(f"a{i}", True)], [(q, f"a{i}", q + 1) for q in range(n - 1)],
+                                           0, [n - 1], f"C{i}")) for i in range(2)]
+    G = S.sync(*chains)
+    got = reachable(G, method=method) if forward else coreachable(G, method=method)
+    assert G.count_states(got) == n * n
