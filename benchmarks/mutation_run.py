@@ -54,7 +54,8 @@ TARGETS = [
            ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
-    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py", "tests/test_supcon_lift.py")),
+    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py", "tests/test_supcon_lift.py",
+                                                                   "tests/test_supcon_accessible.py")),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
            ("tests/test_reachability.py", "tests/test_reachability_within.py",
             "tests/test_reachability_names.py", "tests/test_reachability_schedules.py")),
@@ -195,19 +196,26 @@ interruption test fails under mutmut's tracing), so `run_study` and the Dask exe
 `tests/test_timing_buffers.py` and `tests/test_sweeps_apart.py` (not the slower
 `tests/test_trajectories.py`).
 
-**This session's runs** (the *run* column shows only each module's last run, which
-re-checked the survivors after new tests): *store* all 886 mutants (523 s), its 9 killable
-survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a function
-the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30 minutes of runs
-(the tests take several seconds a mutant on the loaded machine), survivors re-checked
-after new tests; `timing.py`'s other mutants and all of `sweeps_apart.py`'s are *not
-checked*. *gen-reader*: the first 48 of `gen_parser.py`'s mutants (about 25 minutes:
-`tests/test_gen_compat.py` and `tests/test_gen_sections.py` run hundreds of libFAUDES
-comparisons a mutant), survivors re-checked after new tests; the rest, `gen_bulk.py`
-and `gen_write.py` are *not checked*. The score of these partial runs is about the
-mutants they checked, not the module. *supcon*, *reachability*, *forcibility*,
-*geometry*, *validator* and *descent* were not run: no machine time was left in this
-session (each is one command, `python benchmarks/mutation_run.py NAME`).
+**Runs so far** (the *run* column shows only each module's last run; a run of some mutants
+(`--mutants`) keeps the other mutants' verdicts). *store*: all 886 mutants (523 s), its 9
+killable survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a
+function the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30
+minutes (the tests take several seconds a mutant on the loaded machine); `timing.py`'s other
+mutants and all of `sweeps_apart.py`'s are *not checked*. *gen-reader*: the first 48 of
+`gen_parser.py`'s mutants (about 25 minutes: `tests/test_gen_compat.py` and
+`tests/test_gen_sections.py` run hundreds of libFAUDES comparisons a mutant), its survivors
+again after `tests/test_gen_refusal_values.py`; the rest, `gen_bulk.py` and `gen_write.py`
+are *not checked*. *reachability*: 900 s over all mutants (the wrappers, the naive twins,
+`_clusters`, parts of `_merge_by_writes`), then 1100 s over the survivors and `_saturate`
+after `tests/test_reachability_names.py` and `tests/test_reachability_schedules.py`, then
+the survivors again; `_bfs`, `_chaining`, `_sweep`, `_fixpoint` and the rest of `_saturate`
+are *not checked*. *supcon*: 1200 s (one worker) over `supcon.py` (`supcon_flat`, the
+result's `summary` and reprs are *no tests*: `tests/test_supcon.py` does not call them),
+then `lift_spec`'s survivors after `tests/test_supcon_lift.py`; the mutants of `supcon`
+itself not reached are *not checked*. *forcibility*: 900 s (one worker). *geometry*,
+*validator* and *descent* were not run: no machine time was left (each is one command,
+`python benchmarks/mutation_run.py NAME`). The score of a partial run is about the
+mutants it checked, not the module.
 """
 
 
