@@ -3,8 +3,9 @@
 State 0 has only uncontrollable events (under preemptive semantics the environment acts
 there): ``u1`` and ``u3`` lead into the target at once, ``u2`` to state 1, from which the
 controller forces ``c`` into the target.  So the smallest name gives ``[u1]``, the largest
-``[u3]`` and the worst case (highest rank reached, ties by name) ``[u2, c]``; the symbolic witness and its explicit twin must both say so, with the
-documented defaults (preemptive, smallest) when nothing is asked.
+``[u3]`` and the worst case (highest rank reached, ties by name) ``[u2, c]``; the symbolic
+witness and its explicit twin must both say so, with the documented defaults (preemptive,
+smallest) when nothing is asked.
 """
 
 from __future__ import annotations
