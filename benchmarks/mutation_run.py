@@ -216,10 +216,16 @@ then `lift_spec`'s survivors after `tests/test_supcon_lift.py`; the mutants of `
 itself not reached are *not checked*. *forcibility*: 900 s (one worker) reaching the
 wrappers, `bfa_naive`, `witness_naive` and parts of `forcible_layers`, then its survivors
 again after `tests/test_forcibility_bfa.py` and `tests/test_witness_env_choice.py`; the
-rest is *not checked*. *validator*: its run stopped before the first mutant: under
-mutmut's tracing `tests/test_safety.py::test_sigint_at_any_time_is_one_line_and_exit_130`
-fails (exit 0 instead of 130, like the study run's interruption test), so mutmut cannot
-collect its statistics; that test has to be left out of the validator's selection first.
+rest is *not checked*. *validator*: a first run with `tests/test_safety.py` and
+`tests/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
+`test_sigint_at_any_time_is_one_line_and_exit_130` fails (exit 0 instead of 130, like the
+study run's interruption test), so mutmut could not collect its statistics; the run kept
+uses `tests/test_validate.py` alone, 720 s (two workers), and reached the oracle's
+`hex_bases_by_angle` (an oracle: its survivors are all equivalent) and the first helpers of
+`validate_plan` (`_check_events`, `_check_angles_match`, `_step_delta`, `_angles_off`,
+`_ids`, `_wrapping`), whose survivors are kept as survivors: no test of `test_validate.py`
+has robots that differ in wrapping, an odd or two-step wrapping joint, `angles_deg` that
+disagree with the configurations, or more than ten robots in one message.
 *geometry* and *descent* were not run: no machine time was left (each is one command,
 `python benchmarks/mutation_run.py NAME`). The score of a partial run is about the
 mutants it checked, not the module.
