@@ -69,7 +69,7 @@ TARGETS = [
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
            ("tests/test_sweep_heterogeneous.py", "tests/test_sweep.py", "tests/test_collision.py")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/test_validate.py",)),  # test_safety's SIGINT test fails under mutmut's tracing
+           ("tests/test_validate.py", "tests/test_validate_messages.py")),  # (test_safety: see the notes)
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
            ("tests/test_descent_merged.py", "tests/test_planner_oracle.py", "tests/test_planner.py")),
 ]
@@ -220,7 +220,8 @@ rest is *not checked*. *validator*: a first run with `tests/test_safety.py` and
 `tests/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
 `test_sigint_at_any_time_is_one_line_and_exit_130` fails (exit 0 instead of 130, like the
 study run's interruption test), so mutmut could not collect its statistics; the run kept
-uses `tests/test_validate.py` alone, 720 s (two workers), and reached the oracle's
+uses `tests/test_validate.py` alone, 720 s (two workers), then `_ids`' survivors again with
+`tests/test_validate_messages.py`; and reached the oracle's
 `hex_bases_by_angle` (an oracle: its survivors are all equivalent) and the first helpers of
 `validate_plan` (`_check_events`, `_check_angles_match`, `_step_delta`, `_angles_off`,
 `_ids`, `_wrapping`), whose survivors are kept as survivors: no test of `test_validate.py`
