@@ -54,19 +54,22 @@ TARGETS = [
            ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
-    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py",)),
+    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",),
+           ("tests/test_supcon.py", "tests/test_supcon_lift.py", "tests/test_supcon_accessible.py")),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
-           ("tests/test_reachability.py", "tests/test_reachability_within.py")),
+           ("tests/test_reachability.py", "tests/test_reachability_within.py",
+            "tests/test_reachability_names.py", "tests/test_reachability_schedules.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
-           ("tests/test_forcibility.py", "tests/test_witness.py")),
+           ("tests/test_forcibility.py", "tests/test_forcibility_bfa.py", "tests/test_witness.py",
+            "tests/test_witness_env_choice.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
-           ("tests/test_gen_sections.py", "tests/test_gen_compat.py", "tests/test_gen_compat_export.py",
-            "tests/test_io.py")),
+           ("tests/test_gen_sections.py", "tests/test_gen_refusal_values.py", "tests/test_gen_compat.py",
+            "tests/test_gen_compat_export.py", "tests/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
            ("tests/test_sweep_heterogeneous.py", "tests/test_sweep.py", "tests/test_collision.py")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/test_validate.py", "tests/test_safety.py", "tests/test_trajectories.py")),
+           ("tests/test_validate.py", "tests/test_validate_messages.py")),  # (test_safety: see the notes)
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
            ("tests/test_descent_merged.py", "tests/test_planner_oracle.py", "tests/test_planner.py")),
 ]
@@ -91,7 +94,41 @@ def _prepare(t: Target, work: Path) -> Path:
     return d
 
 
+def _verdicts(d: Path) -> dict[Path, dict]:
+    """mutmut's kept results of a run folder: ``*.meta`` file -> its JSON."""
+    import json
+
+    return {m: json.loads(m.read_text()) for m in (d / "mutants").rglob("*.meta")} if (d / "mutants").is_dir() else {}
+
+
+def _restore(before: dict[Path, dict]) -> None:
+    """Put back the verdicts a new run of some mutants forgot (mutmut regenerates the
+    mutants of a fresh copy of ``src/`` and clears the others' results): a mutant whose
+    function is unchanged (same hash) and that this run did not decide keeps its verdict."""
+    import json
+
+    for path, old in before.items():
+        if not path.exists():
+            continue
+        new = json.loads(path.read_text())
+        same = {f for f, h in old.get("hash_by_function_name", {}).items()
+                if new.get("hash_by_function_name", {}).get(f) == h}
+        changed = False
+        for key, code in old.get("exit_code_by_key", {}).items():
+            func = key.rsplit(".", 1)[-1].rsplit("__mutmut_", 1)[0]
+            if code is not None and new["exit_code_by_key"].get(key, code) is None and func in same:
+                new["exit_code_by_key"][key] = code
+                if key in old.get("durations_by_key", {}):
+                    new.setdefault("durations_by_key", {})[key] = old["durations_by_key"][key]
+                changed = True
+        if changed:
+            tmp = path.with_suffix(".meta.tmp")
+            tmp.write_text(json.dumps(new, indent=4))
+            os.replace(tmp, path)
+
+
 def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] = ()) -> dict:
+    before = _verdicts(work / t.name)
     d = _prepare(t, work)
     env = dict(os.environ, HYPOTHESIS_PROFILE="quick")
     env.pop("PYTHONPATH", None)
@@ -104,6 +141,7 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
         except subprocess.TimeoutExpired:
             code = "time limit"
     seconds = time.time() - t0
+    _restore(before)
     (d / "run.json").write_text(f'{{"seconds": {seconds:.0f}, "exit": "{code}", '
                                 f'"finished": "{time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}"}}\n')
     return {"seconds": seconds, "exit": code}
@@ -159,19 +197,39 @@ interruption test fails under mutmut's tracing), so `run_study` and the Dask exe
 `tests/test_timing_buffers.py` and `tests/test_sweeps_apart.py` (not the slower
 `tests/test_trajectories.py`).
 
-**This session's runs** (the *run* column shows only each module's last run, which
-re-checked the survivors after new tests): *store* all 886 mutants (523 s), its 9 killable
-survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a function
-the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30 minutes of runs
-(the tests take several seconds a mutant on the loaded machine), survivors re-checked
-after new tests; `timing.py`'s other mutants and all of `sweeps_apart.py`'s are *not
-checked*. *gen-reader*: the first 48 of `gen_parser.py`'s mutants (about 25 minutes:
-`tests/test_gen_compat.py` and `tests/test_gen_sections.py` run hundreds of libFAUDES
-comparisons a mutant), survivors re-checked after new tests; the rest, `gen_bulk.py`
-and `gen_write.py` are *not checked*. The score of these partial runs is about the
-mutants they checked, not the module. *supcon*, *reachability*, *forcibility*,
-*geometry*, *validator* and *descent* were not run: no machine time was left in this
-session (each is one command, `python benchmarks/mutation_run.py NAME`).
+**Runs so far** (the *run* column shows only each module's last run; a run of some mutants
+(`--mutants`) keeps the other mutants' verdicts). *store*: all 886 mutants (523 s), its 9
+killable survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a
+function the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30
+minutes (the tests take several seconds a mutant on the loaded machine); `timing.py`'s other
+mutants and all of `sweeps_apart.py`'s are *not checked*. *gen-reader*: the first 48 of
+`gen_parser.py`'s mutants (about 25 minutes: `tests/test_gen_compat.py` and
+`tests/test_gen_sections.py` run hundreds of libFAUDES comparisons a mutant), its survivors
+again after `tests/test_gen_refusal_values.py`; the rest, `gen_bulk.py` and `gen_write.py`
+are *not checked*. *reachability*: 900 s over all mutants (the wrappers, the naive twins,
+`_clusters`, parts of `_merge_by_writes`), then 1100 s over the survivors and `_saturate`
+after `tests/test_reachability_names.py` and `tests/test_reachability_schedules.py`, then
+the survivors again; `_bfs`, `_chaining`, `_sweep`, `_fixpoint` and the rest of `_saturate`
+are *not checked*. *supcon*: 1200 s (one worker) over `supcon.py` (`supcon_flat`, the
+result's `summary` and reprs are *no tests*: `tests/test_supcon.py` does not call them),
+then `lift_spec`'s survivors after `tests/test_supcon_lift.py`; the mutants of `supcon`
+itself not reached are *not checked*. *forcibility*: 900 s (one worker) reaching the
+wrappers, `bfa_naive`, `witness_naive` and parts of `forcible_layers`, then its survivors
+again after `tests/test_forcibility_bfa.py` and `tests/test_witness_env_choice.py`; the
+rest is *not checked*. *validator*: a first run with `tests/test_safety.py` and
+`tests/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
+`test_sigint_at_any_time_is_one_line_and_exit_130` fails (exit 0 instead of 130, like the
+study run's interruption test), so mutmut could not collect its statistics; the run kept
+uses `tests/test_validate.py` alone, 720 s (two workers), then `_ids`' survivors again with
+`tests/test_validate_messages.py`; and reached the oracle's
+`hex_bases_by_angle` (an oracle: its survivors are all equivalent) and the first helpers of
+`validate_plan` (`_check_events`, `_check_angles_match`, `_step_delta`, `_angles_off`,
+`_ids`, `_wrapping`), whose survivors are kept as survivors: no test of `test_validate.py`
+has robots that differ in wrapping, an odd or two-step wrapping joint, `angles_deg` that
+disagree with the configurations, or more than ten robots in one message.
+*geometry* and *descent* were not run: no machine time was left (each is one command,
+`python benchmarks/mutation_run.py NAME`). The score of a partial run is about the
+mutants it checked, not the module.
 """
 
 
@@ -197,7 +255,7 @@ def report(work: Path, out: Path) -> None:
             continue
         meta = (work / t.name / "run.json").read_text() if (work / t.name / "run.json").exists() else "{}"
         counts = Counter("killed" if s in ("killed", "timeout", "segfault") else s for s in st.values())
-        note = notes.get(t.name, {})
+        note = _by_name(notes.get(t.name, {}), st)
         survivors = sorted(n for n, s in st.items() if s in ("survived", "suspicious"))
         equivalent = [n for n in survivors if note.get(n, "").startswith("equivalent")]
         untested = sorted(n for n, s in st.items() if s == "no tests")
@@ -220,6 +278,16 @@ def report(work: Path, out: Path) -> None:
     tmp.write_text(text)
     os.replace(tmp, out)
     print(text)
+
+
+def _by_name(note: dict[str, str], st: dict[str, str]) -> dict[str, str]:
+    """``note`` keyed by the mutants of ``st``: a kept run from before a function moved to
+    another file of the module (``x_f__mutmut_3`` in ``a.py``, noted in ``b.py``) finds its
+    note by the function's mutant name when that name is noted once."""
+    tails = Counter(k.rsplit(".", 1)[-1] for k in note)
+    by_tail = {k.rsplit(".", 1)[-1]: v for k, v in note.items() if tails[k.rsplit(".", 1)[-1]] == 1}
+    return {n: note.get(n, by_tail.get(n.rsplit(".", 1)[-1], "")) for n in st if n in note
+            or n.rsplit(".", 1)[-1] in by_tail}
 
 
 def _short(meta: str) -> str:
