@@ -1,28 +1,31 @@
 #!/usr/bin/env python
 """The paths SDSS-V's robots would run, checked continuously: supcoord's jaeger export and kaiju's smoothed paths.
 
-Run with supcoord's venv; kaiju runs in ``--kaiju-python`` (any Python
-with kaiju 1.4.1, e.g. built by ``install-kaiju.sh``)::
+Run with supcoord's venv; kaiju runs in ``--kaiju-python`` (any Python with kaiju 1.4.1, e.g.
+built by ``install-kaiju.sh``)::
 
-    python benchmarks/jaeger_vs_kaiju.py --grids apo,lco --seeds 0-2 --kaiju-python KAIJU_PY \
+    python benchmarks/jaeger_vs_kaiju.py --grids apo,lco --seeds 0-9 --kaiju-python KAIJU_PY \
         --out benchmarks/results/jaeger_paths
 
 For every kaiju instance ``{grid}_s{seed}`` (``kaiju_side.py instances``: kaiju's random
-decollided targets on the measured wok) in the fold direction (targets → folded lattice; the
-unfold is the same motion backwards in time, kaiju's ``fromDestination`` and supcoord's
-``--jaeger-reverse``, so it meets the same poses):
+decollided targets on the measured wok), both directions, as jaeger sends a path pair: the fold
+(targets → folded lattice) and the unfold (back). Each planner plans the fold once:
 
 * supcoord: the instrument problem with **no collision options** (the instrument's own
-  definition, kaiju's), ``supcoord.solve`` with the defaults, exported with
-  ``jaeger_paths`` (2 RPM, 1 s delay), then (1) ``check_jaeger`` on the exported points and
-  (2) kaiju's own collision check along those points (``kaiju_side.py replay``: every 0.1°
-  of motion, kaiju's ``isCollided`` with its step margin);
-* kaiju: MDP (``kaiju_side.py plan --planner mdp``; jaeger's default planner) and the
-  ``getPathPair`` path jaeger sends (Savitzky–Golay smoothed, RDP simplified; 2 RPM),
-  converted to jaeger's format with the 1 s delay and checked by ``check_jaeger``:
-  collisions, the first colliding pair and time, the closest approach.
+  definition, kaiju's), ``supcoord.solve`` with the defaults, exported with ``jaeger_paths``
+  (2 RPM, 1 s delay, ``--acceleration`` limit: trapezoidal ramps) and ``jaeger_paths(...,
+  reverse=True)``; each export checked by ``check_jaeger`` in its direction, and by kaiju's own
+  collision check along its points (``kaiju_side.py replay``: every 0.1° of motion, kaiju's
+  ``isCollided`` with its step margin). The unfold's replay is the fold's once the unfold's points
+  are checked to be the fold's mirrored in time (the same poses; ``--replay-both`` replays both);
+* kaiju: MDP (``kaiju_side.py plan --planner mdp``; jaeger's default planner) and the two paths
+  of ``getPathPair`` jaeger sends (Savitzky–Golay smoothed, RDP simplified; 2 RPM), with the 1 s
+  delay, checked by ``check_jaeger``: collisions, the first colliding pair and time, the closest
+  approach.
 
-Writes OUT.json (every row) and OUT.md (the table).
+Motion times exclude the delay: supcoord's with the acceleration profile (and without, for
+reference), kaiju's the smoothed path's last time. Writes OUT.json (every row and a per-wok
+summary) and OUT.md; ``--merge`` joins runs (e.g. one per wok, run side by side).
 """
 
 from __future__ import annotations
@@ -33,6 +36,8 @@ import os
 import subprocess
 import sys
 import time
+
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 KAIJU_SIDE = os.path.join(HERE, "kaiju_side.py")
@@ -83,6 +88,24 @@ def _replay(inst: dict, inst_path: str, paths: dict, work: str, name: str, args)
             "supcoord_kaiju_min_clearance_mm": r["min_clearance_mm"]}
 
 
+def _mirrored(fold: dict, back: dict) -> bool:
+    """``back`` is ``fold`` run backwards in time: every joint's angle at ``T + 2·delay − t`` in ``back``
+    is its angle at ``t`` in ``fold`` (at every point of either, each joint holding its last angle), so
+    kaiju's replay of one visits exactly the poses of the other."""
+    total = max(pts[-1][1] for p in fold.values() for pts in p.values()) + \
+        min(pts[0][1] for p in fold.values() for pts in p.values())
+    if fold.keys() != back.keys():
+        return False
+    for k in fold:
+        for arm in ("alpha", "beta"):
+            f, g = np.array(fold[k][arm], float), np.array(back[k][arm], float)
+            g = np.stack([g[::-1, 0], total - g[::-1, 1]], axis=1)   # back, mirrored into fold's time
+            t = np.union1d(f[:, 1], g[:, 1])
+            if not np.allclose(np.interp(t, f[:, 1], f[:, 0]), np.interp(t, g[:, 1], g[:, 0]), rtol=0, atol=1e-9):
+                return False
+    return True
+
+
 def rows(grid: str, seed: int, args, work: str) -> list[dict]:
     """The fold row and the unfold row of one kaiju instance.
 
@@ -124,7 +147,13 @@ def rows(grid: str, seed: int, args, work: str) -> list[dict]:
                      supcoord_motion_no_accel_s=flat.motion_time_s - flat.start_delay_s,
                      supcoord_export_max_speed=exp.max_speed_deg_s)
             r.update(_check(problem, paths, reverse, "supcoord"))
-            r.update(_replay(inst, inst_path, paths, work, f"{name}_supcoord", args))
+            if reverse and not args.replay_both:
+                r.update({k: v for k, v in out[0].items() if k.startswith("supcoord_kaiju_")})
+                r["supcoord_kaiju_replay_of"] = "fold" if _mirrored(out_paths, paths) else "fold, NOT mirrored"
+            else:
+                r.update(_replay(inst, inst_path, paths, work, f"{name}_supcoord", args))
+                r["supcoord_kaiju_replay_of"] = direction
+            out_paths = paths
             with open(os.path.join(work, f"{name}_supcoord_paths.json"), "w") as f:
                 json.dump(paths, f)
         if smoothed in k:
@@ -259,6 +288,10 @@ def main(argv=None) -> int:
     ap.add_argument("--kaiju-python", required=True)
     ap.add_argument("--work", default="/tmp/jaeger_vs_kaiju_work")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "jaeger_paths"))
+    ap.add_argument("--replay-both", action="store_true",
+                    help="run kaiju's replay on the unfold export too (default: only after checking that its "
+                         "points are the fold's mirrored in time, so the replay would visit the same poses)")
+    ap.add_argument("--merge", nargs="+", metavar="RUN.json", help="merge the rows of these runs into OUT; run nothing")
     ap.add_argument("--resume", action="store_true", help="keep OUT.json's rows and run only the missing ones")
     ap.add_argument("--report-only", action="store_true", help="rewrite OUT.md from OUT.json; run nothing")
     args = ap.parse_args(argv)
@@ -266,6 +299,18 @@ def main(argv=None) -> int:
         with open(args.out + ".json") as f:
             saved = json.load(f)
         write_md(args.out + ".md", saved["rows"], saved["meta"])
+        return 0
+    if args.merge:
+        runs = []
+        for path in args.merge:
+            with open(path) as f:
+                runs.append(json.load(f))
+        merged = sorted((r for run in runs for r in run["rows"]), key=lambda r: (r["grid"], r["seed"], r["direction"]))
+        meta = dict(runs[0]["meta"], runs=[run["meta"] for run in runs])
+        meta["command"] = " ; ".join(run["meta"]["command"] for run in runs)
+        with open(args.out + ".json", "w") as f:
+            json.dump({"meta": meta, "summary": summary(merged), "rows": merged}, f, indent=1)
+        write_md(args.out + ".md", merged, meta)
         return 0
     lo, _, hi = args.seeds.partition("-")
     seeds = range(int(lo), int(hi or lo) + 1)
