@@ -46,16 +46,17 @@ def decode(chunks: list[bytes]) -> np.ndarray:
     return np.stack([raw[:, 0] * 360.0 / STEPS_PER_TURN, raw[:, 1] * TIME_STEP], axis=1)
 
 
-async def run(paths: dict, starts: dict, speedup_log: list) -> dict:
+async def run(paths: dict, starts: dict, speedup_log: list, init_timeout: float | None = None) -> dict:
     from jaeger import config
     from jaeger.commands import CommandID
     from jaeger.commands.trajectory import send_trajectory
+    from jaeger.positioner import Positioner
     from jaeger.testing import VirtualFPS, VirtualPositioner
 
     config["fps"]["use_lock"] = False
     config["safe_mode"] = False
     config["positioner"]["trajectory_dump_path"] = "/tmp/jaeger_virtual_dumps"
-    config["fps"]["initialise_timeouts"] = max(0.5, len(paths) / 50)  # every virtual positioner answers GET_ID
+    config["fps"]["initialise_timeouts"] = max(0.5, len(paths) / 50, init_timeout or 0)  # every one answers GET_ID
 
     received: dict[int, dict[str, list[bytes]]] = {}
 
@@ -92,7 +93,15 @@ async def run(paths: dict, starts: dict, speedup_log: list) -> dict:
     for pid in paths:
         vp = RunningPositioner(pid, bus=fps._vpositioner_bus, position=tuple(starts[pid]))
         fps._vpositioners[pid] = vp
-    await fps.initialise()
+    jaeger_update_status = Positioner.update_status
+    if init_timeout:  # during initialisation only: 500 virtual positioners answer in one Python process
+        async def patient_update_status(self, status=None, timeout=1.0):
+            return await jaeger_update_status(self, status, timeout=max(timeout, init_timeout))
+        Positioner.update_status = patient_update_status
+    try:
+        await fps.initialise()
+    finally:
+        Positioner.update_status = jaeger_update_status
     missing = sorted(set(paths) - set(fps.positioners))
     if missing:
         raise RuntimeError(f"{len(missing)} virtual positioners did not answer jaeger's initialisation: {missing[:5]}")
@@ -121,6 +130,9 @@ def main(argv=None) -> int:
     ap.add_argument("--max-robots", type=int, default=None,
                     help="send only the N robots with the most points (a loaded machine's virtual bus may not "
                          "answer jaeger's initialisation for all 500 in time)")
+    ap.add_argument("--init-timeout", type=float, default=None,
+                    help="seconds each virtual positioner may take to answer GET_STATUS during jaeger's "
+                         "initialisation (jaeger's own: 1 s; its trajectory code keeps its own timeouts)")
     args = ap.parse_args(argv)
     os.environ.setdefault("OBSERVATORY", "APO")  # jaeger reads its site's configuration on import
     from supcoord.problems.problem import load_problem
@@ -140,7 +152,7 @@ def main(argv=None) -> int:
     first, last = (ang[1], ang[0]) if args.reverse else ang
     index = {int(k): p for p, k in enumerate(keys)}
     starts = {pid: first[index[pid]].tolist() for pid in paths}
-    res = asyncio.run(run(paths, starts, []))
+    res = asyncio.run(run(paths, starts, [], args.init_timeout))
     worst_end = max(float(np.max(np.abs(np.array(res["ends"][pid]) - last[index[pid]]))) for pid in paths)
     worst_point = max_gap = 0.0
     increasing = True
@@ -153,7 +165,7 @@ def main(argv=None) -> int:
     summary = {"jaeger_version": importlib.metadata.version("jaeger"), "entry_point": res["entry_point"], "robots": len(paths),
                "points": sum(len(v["alpha"]) + len(v["beta"]) for v in data.values()),
                "move_time_s": res["move_time_s"], "data_send_time_s": res["data_send_time_s"],
-               "wall_s": res["wall_s"], "accepted": True,
+               "wall_s": res["wall_s"], "accepted": True, "init_timeout_s": args.init_timeout,
                "received_robots": len(res["received"]),
                "decoded_max_angle_error_deg": worst_point, "decoded_max_time_error_s": max_gap,
                "decoded_times_increase": increasing, "max_end_error_deg": worst_end,

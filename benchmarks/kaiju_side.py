@@ -491,10 +491,11 @@ def cmd_plan(args) -> None:
         with _stdout_to_stderr():
             to_dest, from_dest = rg.getPathPair(speed=SPEED_RPM, smoothPoints=SMOOTH_POINTS,
                                                 collisionShrink=COLLISION_SHRINK, pathDelay=0)
-        smoothed = {}
+        smoothed, smoothed_back = {}, {}
         for rid in order:
-            src = to_dest[rid] if args.direction != "unfold" else from_dest[rid]
+            src, back = (to_dest[rid], from_dest[rid]) if args.direction != "unfold" else (from_dest[rid], to_dest[rid])
             smoothed[rid] = {ax: [[float(t), float(d)] for d, t in src[ax]] for ax in ("alpha", "beta")}
+            smoothed_back[rid] = {ax: [[float(t), float(d)] for d, t in back[ax]] for ax in ("alpha", "beta")}
     t_end = (n_steps - 1) * dt
 
     def timed(bp):
@@ -545,6 +546,10 @@ def cmd_plan(args) -> None:
                                      "pathDelay); NOT collision-checked by kaiju 1.4.1 "
                                      "(verifySmoothed is commented out, robotGrid.py:281-283)")
         out["motion_time_smoothed_s"] = last
+        out["path_smoothed_back"] = {str(r): smoothed_back[r] for r in order}
+        out["path_smoothed_back_note"] = ("the other path of the same getPathPair call (fromDestination for "
+                                          "fold, toDestination for unfold): the way back, as jaeger sends it")
+        out["motion_time_smoothed_back_s"] = max(pts[-1][0] for p in smoothed_back.values() for pts in p.values())
     with open(args.out, "w") as f:
         json.dump(out, f)
     print(json.dumps({k: out[k] for k in ("grid", "seed", "planner", "direction", "solved",
