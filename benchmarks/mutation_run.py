@@ -51,24 +51,24 @@ class Target:
 
 TARGETS = [
     Target("store", "study store", ("study/store.py", "study/resume.py", "study/execute.py"),
-           ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
+           ("tests/study/test_study_resume.py", "tests/study/test_study_store_rows.py", "tests/study/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
-           ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
-    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/test_supcon.py",)),
+           ("tests/problems/test_timing_buffers.py", "tests/geometry/test_sweeps_apart.py")),
+    Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",), ("tests/synthesis/test_supcon.py",)),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
-           ("tests/test_reachability.py", "tests/test_reachability_within.py")),
+           ("tests/synthesis/test_reachability.py", "tests/synthesis/test_reachability_within.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
-           ("tests/test_forcibility.py", "tests/test_witness.py")),
+           ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_witness.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_bulk.py", "des/io/gen_write.py"),
-           ("tests/test_gen_sections.py", "tests/test_gen_compat.py", "tests/test_gen_compat_export.py",
-            "tests/test_io.py")),
+           ("tests/des/test_gen_sections.py", "tests/des/test_gen_compat.py", "tests/des/test_gen_compat_export.py",
+            "tests/des/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
-           ("tests/test_sweep_heterogeneous.py", "tests/test_sweep.py", "tests/test_collision.py")),
+           ("tests/geometry/test_sweep_heterogeneous.py", "tests/geometry/test_sweep.py", "tests/geometry/test_collision.py")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/test_validate.py", "tests/test_safety.py", "tests/test_trajectories.py")),
+           ("tests/problems/test_validate.py", "tests/cli/test_safety.py", "tests/problems/test_trajectories.py")),
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
-           ("tests/test_descent_merged.py", "tests/test_planner_oracle.py", "tests/test_planner.py")),
+           ("tests/planning/test_descent_merged.py", "tests/planning/test_planner_oracle.py", "tests/planning/test_planner.py")),
 ]
 BY_NAME = {t.name: t for t in TARGETS}
 
@@ -152,21 +152,21 @@ package each time), several times slower on two shared cores.
 reach are *not checked* and left out of the score, so a partial run's score is about the
 mutants it checked only. Modules marked *not run* were not run for lack of machine time
 in this session (two cores shared by several people); the command above runs them.
-The study store's tests exclude `tests/test_study_run.py` (whole studies on Dask, whose
+The study store's tests exclude `tests/study/test_study_run.py` (whole studies on Dask, whose
 interruption test fails under mutmut's tracing), so `run_study` and the Dask executor are
 *no tests* there. The `.gen` reader's run checked `gen_parser.py`'s mutants only
 (`--mutants 'supcoord.des.io.gen_parser.*'`); the timing's run used
-`tests/test_timing_buffers.py` and `tests/test_sweeps_apart.py` (not the slower
-`tests/test_trajectories.py`).
+`tests/problems/test_timing_buffers.py` and `tests/geometry/test_sweeps_apart.py` (not the slower
+`tests/problems/test_trajectories.py`).
 
 **This session's runs** (the *run* column shows only each module's last run, which
 re-checked the survivors after new tests): *store* all 886 mutants (523 s), its 9 killable
-survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a function
+survivors again after `tests/study/test_study_store_rows.py` (67 s): every mutant in a function
 the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30 minutes of runs
 (the tests take several seconds a mutant on the loaded machine), survivors re-checked
 after new tests; `timing.py`'s other mutants and all of `sweeps_apart.py`'s are *not
 checked*. *gen-reader*: the first 48 of `gen_parser.py`'s mutants (about 25 minutes:
-`tests/test_gen_compat.py` and `tests/test_gen_sections.py` run hundreds of libFAUDES
+`tests/des/test_gen_compat.py` and `tests/des/test_gen_sections.py` run hundreds of libFAUDES
 comparisons a mutant), survivors re-checked after new tests; the rest, `gen_bulk.py`
 and `gen_write.py` are *not checked*. The score of these partial runs is about the
 mutants they checked, not the module. *supcon*, *reachability*, *forcibility*,

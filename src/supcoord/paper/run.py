@@ -21,8 +21,8 @@ synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes:
   only up to :data:`AUTO_COUNT_COUPLED` positioners unless asked for.
 
 The modular and monolithic routes return the same supervisor (same state-set BDD;
-``tests/test_paper.py``); the settled and monolithic routes the same CCC answer
-(``tests/test_settled.py``).
+``tests/paper/test_paper.py``); the settled and monolithic routes the same CCC answer
+(``tests/paper/test_settled.py``).
 :func:`solve_paper` returns the JSON object of ``supcoord paper --json`` (docs/formats.md),
 :func:`run_paper` a :class:`PaperRun` that also keeps the generators and results for a
 notebook.
