@@ -455,7 +455,7 @@ def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
     symmetrised guards read from them (:func:`.guards.blocked_entries`, ``is_blocked``,
     ``blocked_column``) equal :func:`.guards.blocked_table`."""
     from supcoord.planning import guards
-    from supcoord.testing.oracle.cases import tight_angle_problem
+    from supcoord.testing.oracle.tight_problems import tight_angle_problem
 
     rng = np.random.default_rng(seed)
     bases = hex_grid(2, 16.0)

@@ -22,7 +22,7 @@ from supcoord.geometry import AlphaBeta
 from supcoord.geometry.pair_tables import swept_table
 from supcoord.problems import parse_problem
 from supcoord.testing.oracle.distance import segment_gap
-from supcoord.testing.oracle.model import Arm
+from supcoord.testing.oracle.oracle_model import Arm
 from supcoord.testing.oracle.tables import PairTables
 
 #: a least distance this close to the buffers' sum is a tie (rounding decides it either way)

@@ -12,7 +12,7 @@ nonempty and strictly smaller than the trim product).
 
 ``tight_route(clearance)`` is a constructed problem whose only plan passes one move with
 exactly ``clearance`` mm to spare.  ``tight_problems()`` draws random tight geometric problems (PROBLEM.json dicts of
-:func:`supcoord.testing.oracle.cases.tight_problem`: rotary or alpha-beta, 2–6
+:func:`supcoord.testing.oracle.tight_problems.tight_problem`: rotary or alpha-beta, 2–6
 positioners, about 40 % without a plan), for comparisons with the independent oracle.
 """
 
@@ -23,7 +23,7 @@ import math
 from hypothesis import strategies as st
 
 from supcoord.des.generator import Event, Generator
-from supcoord.testing.oracle.cases import tight_problem
+from supcoord.testing.oracle.tight_problems import tight_problem
 
 EVENT_NAMES = ["a", "b", "c", "d", "e", "f", "g", "h"]
 

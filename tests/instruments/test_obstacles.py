@@ -171,7 +171,7 @@ def test_a_robot_with_an_obstacle_moving_two_joints_across_the_wrap_is_scheduled
     # robot 0 (wrapping alpha, a fiducial beside it) turns alpha across 360 -> 0 and beta in
     # one step of the schedule: its motion from the position before the wrap must be checked
     # (once an internal ValueError: an index one past the last alpha position)
-    from supcoord.testing.oracle.cases import tight_angle_problem
+    from supcoord.testing.oracle.tight_problems import tight_angle_problem
 
     data = tight_angle_problem(98, n=6, max_product=10**9)
     data["layout"]["obstacles"] = [{"xy": [3.0, 14.0], "buffer": 1.0}]

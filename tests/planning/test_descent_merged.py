@@ -24,8 +24,8 @@ from hypothesis import strategies as st
 from supcoord.planning.descent import descent, descent_step
 from supcoord.problems import Plan, parse_problem, validate_plan
 from supcoord.testing.oracle.distance import segment_gap
-from supcoord.testing.oracle.model import Arm
-from supcoord.testing.oracle.sweep import FREE, HIT
+from supcoord.testing.oracle.oracle_model import Arm
+from supcoord.testing.oracle.certified_sweep import FREE, HIT
 from supcoord.testing.oracle.tables import PairTables
 
 KIN = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 8, "beta_steps": 5, "beta_range": [0, 180]}

@@ -1,7 +1,7 @@
 """The planner against the independent oracle on problems with exact start and target angles.
 
 Random tight problems of the extensions for real instruments
-(:func:`supcoord.testing.oracle.cases.tight_angle_problem`: 2–4 alpha-beta robots, starts and
+(:func:`supcoord.testing.oracle.tight_problems.tight_angle_problem`: 2–4 alpha-beta robots, starts and
 targets as ``alpha_beta_deg``, sometimes one side as indices or as fibre positions
 ``xy_mm``; a wrapping alpha joint or hard stops ``alpha_range``; sometimes a
 ``collision.margin``), so that every robot moves on its own lattice holding its exact angles.
@@ -42,8 +42,8 @@ from supcoord.testing.oracle import (
     oracle_solve,
 )
 from supcoord.testing.oracle.bfs import Space
-from supcoord.testing.oracle.cases import tight_angle_problem
-from supcoord.testing.oracle.model import OracleProblem
+from supcoord.testing.oracle.tight_problems import tight_angle_problem
+from supcoord.testing.oracle.oracle_model import OracleProblem
 
 #: configurations of a drawn problem (at most 4 robots of 12 positions)
 MAX_PRODUCT = 60_000
@@ -284,7 +284,7 @@ def test_the_oracles_own_lattices_answer_like_its_uniform_ones():
     the uniform positions' angles (every robot's own lattice is then the uniform one), and
     the same with part of the buffers given as a margin, have one answer.  Round-number
     seeds (ties, which a last bit may decide) are left out."""
-    from supcoord.testing.oracle.cases import tight_problem
+    from supcoord.testing.oracle.tight_problems import tight_problem
 
     compared = Counter()
     for seed in (s for s in range(60) if s % 10 != 7):

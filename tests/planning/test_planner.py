@@ -2,8 +2,8 @@
 
 Verdicts, ranks, certificates and optimal makespans are checked against
 :mod:`supcoord.testing.oracle` (its own geometry and breadth-first search, none of the
-planner's tables); :func:`~supcoord.testing.search.reachable_naive` and
-:func:`~supcoord.testing.search.blockers_naive`, explicit twins of the *encoding* over the
+planner's tables); :func:`~supcoord.testing.explicit_search.reachable_naive` and
+:func:`~supcoord.testing.explicit_search.blockers_naive`, explicit twins of the *encoding* over the
 planner's own guards, check that the BDDs encode those guards.
 """
 
@@ -198,7 +198,7 @@ from supcoord.planning.search import blockers, search, witness_layers
 from supcoord.planning.windows import LEVELS, path_blockers
 from supcoord.problems import Plan
 from supcoord.problems.problem import parse_problem
-from supcoord.testing.search import blockers_naive, reachable_naive
+from supcoord.testing.explicit_search import blockers_naive, reachable_naive
 
 
 def _subproblem(p, members):
@@ -553,7 +553,7 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batch
     the motions computed first in one batch per neighbour (:meth:`_Replanner.prefetch`)."""
     from supcoord.planning.improve import _Replanner
     from supcoord.problems.problem import parse_problem
-    from supcoord.testing.oracle.cases import tight_angle_problem
+    from supcoord.testing.oracle.tight_problems import tight_angle_problem
 
     if kind == "ab":
         p = random_problem({"kind": "hex", "rings": 1, "pitch": 22.4}, AB_SDSS, 2.0, seed=seed)

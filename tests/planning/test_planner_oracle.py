@@ -1,6 +1,6 @@
 """The planner against the independent oracle (issue 13), verdict by verdict.
 
-Random tight problems (``supcoord.testing.oracle.cases``: rotary and alpha-beta, 2–6
+Random tight problems (``supcoord.testing.oracle.tight_problems``: rotary and alpha-beta, 2–6
 positioners, about 40 % without a plan) are solved by :func:`supcoord.planning.solve`
 on the default route and with the window route **forced** (no small component solved
 whole, tiny window caps, with and without the greedy descent), and compared with the
@@ -33,7 +33,7 @@ from supcoord.planning import solve
 from supcoord.problems import parse_problem, validate_plan
 from supcoord.testing.oracle import oracle_bounds, oracle_check_steps, oracle_optimal_makespan, oracle_solve
 from supcoord.testing.oracle.bfs import MAX_STEP_KINDS
-from supcoord.testing.oracle.cases import tight_problem
+from supcoord.testing.oracle.tight_problems import tight_problem
 
 #: what the comparison must reach
 KINDS = ("feasible", "infeasible", "whole component solved", "grown window solved", "few-displaced window solved",

@@ -1,6 +1,6 @@
 """A finer lattice where the problem's has only a single-move certificate (``supcoord.problems.refine``).
 
-Six-robot random tight problems (:func:`~supcoord.testing.oracle.cases.tight_angle_problem`,
+Six-robot random tight problems (:func:`~supcoord.testing.oracle.tight_problems.tight_angle_problem`,
 exact start and target angles) whose lattice has only a single-move certificate while its
 robots alone can move several joints at once (too many joints for the simultaneous search of
 the whole).  ``solve`` then plans on the lattice with steps two-thirds as long.  Checked
@@ -29,7 +29,7 @@ from supcoord.problems.problem import parse_problem
 from supcoord.problems.refine import at_lattice, finer_steps
 from supcoord.problems.validate import validate_plan
 from supcoord.testing.oracle import oracle_check_moves, oracle_check_steps, oracle_ends_deg, oracle_solve
-from supcoord.testing.oracle.cases import tight_angle_problem
+from supcoord.testing.oracle.tight_problems import tight_angle_problem
 
 #: seeds of six robots (found by a scan) that the finer lattice solves, and ones where it does not
 SOLVED = (107, 116, 140, 144, 145, 148)

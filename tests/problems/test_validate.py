@@ -25,8 +25,8 @@ from supcoord.problems import (
 from supcoord.problems.plan import apply_moves
 from supcoord.problems.validate import hex_bases_by_angle
 from supcoord.testing.oracle import FREE, HIT, oracle_motion
-from supcoord.testing.oracle.model import OracleProblem
-from supcoord.testing.oracle.sweep import TIE
+from supcoord.testing.oracle.oracle_model import OracleProblem
+from supcoord.testing.oracle.certified_sweep import TIE
 from supcoord.testing.oracle.tables import PairTables
 
 from problem_cases import THREE, oracle_plan_moves

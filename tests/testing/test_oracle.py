@@ -43,10 +43,10 @@ from supcoord.testing.oracle import (
     oracle_solve,
 )
 from supcoord.testing.oracle.bfs import Space
-from supcoord.testing.oracle.cases import tight_problem
+from supcoord.testing.oracle.tight_problems import tight_problem
 from supcoord.testing.oracle.distance import segment_gap
-from supcoord.testing.oracle.model import Arm, OracleProblem, hex_bases
-from supcoord.testing.oracle.sweep import certify
+from supcoord.testing.oracle.oracle_model import Arm, OracleProblem, hex_bases
+from supcoord.testing.oracle.certified_sweep import certify
 from supcoord.testing.oracle.tables import PairTables, joint_options
 
 ORACLE = Path(__file__).resolve().parents[2] / "src" / "supcoord" / "testing" / "oracle"

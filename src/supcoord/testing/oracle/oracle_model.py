@@ -24,7 +24,7 @@ the plane are **complex numbers** ``x + iy`` throughout.
   turns linearly in angle between neighbouring positions (:attr:`Arm.tables`).
 - **Motion** between positions is linear in joint space: ``q + t·δ``, ``t ∈ [0, 1]``
   (with own lattices: linear in angle within each step, which is what a step is).
-- **Levers** (what makes the swept check certified, :mod:`.sweep`): turning joint ``j``
+- **Levers** (what makes the swept check certified, :mod:`.certified_sweep`): turning joint ``j``
   by ``ω`` radians moves a point of the colliding segment by at most ``ω·lever_j``,
   where ``lever_j`` is the largest distance of such a point from the joint's axis over
   the joint ranges: rotary ``arm``; alpha joint the *true reach* below; beta joint

@@ -2,7 +2,7 @@
 
 Let ``d(t)`` be the distance between the colliding segments of two positioners while
 they move (either or both, any joints at once) linearly in joint space,
-``q + t·δ``.  No point of a segment moves faster than its arm's :meth:`.model.Arm.speed`
+``q + t·δ``.  No point of a segment moves faster than its arm's :meth:`.oracle_model.Arm.speed`
 (``Σ_j |δ_j|·|radians per step_j|·lever_j``), so ``d`` is Lipschitz with ``L`` the sum of
 the two speeds: ``|d(t) − d(t')| ≤ L·|t − t'|``.  Hence on an interval ``[t0, t1]`` of
 width ``w``::

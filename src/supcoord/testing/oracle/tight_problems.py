@@ -36,8 +36,8 @@ import numpy as np
 
 from .angles import uniform_deg
 from .distance import segment_gap
-from .model import Arm, OracleInputError, OracleProblem, hex_bases
-from .sweep import TIE
+from .oracle_model import Arm, OracleInputError, OracleProblem, hex_bases
+from .certified_sweep import TIE
 from .tables import PairTables
 
 __all__ = ["ANGLE_MAX_PRODUCT", "KINDS", "MAX_PRODUCT", "tight_angle_problem", "tight_problem"]
