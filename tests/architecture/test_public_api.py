@@ -186,6 +186,7 @@ def _run_json(argv: list[str], hashseed: str) -> dict:
     return json.loads(proc.stdout)
 
 
+@pytest.mark.slow
 def test_results_do_not_depend_on_string_hashing(tmp_path):
     """Two processes with different PYTHONHASHSEED (set and dict-of-str iteration orders
     differ) give the same supervisor, witness and plan: determinism across runs, not

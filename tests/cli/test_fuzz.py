@@ -98,6 +98,7 @@ def test_mutated_plan_files(seeds, tmp_path, seed):
 @pytest.mark.timeout(240)
 @FUZZ
 @given(seed=SEEDS)
+@pytest.mark.slow
 def test_mutated_gen_files(seeds, tmp_path, seed):
     path = tmp_path / "m.gen"
     path.write_bytes(mutate_gen(seeds["m.gen"], random.Random(seed)))

@@ -27,9 +27,9 @@ def test_readme_starts_with_two_sentences_then_the_two_commands():
     commands = re.findall(r"```bash\n(.*?)\n```", text, flags=re.S)
     assert commands[0] == "python3 -m venv .venv && .venv/bin/pip install -q . && .venv/bin/supcoord demo"
     assert commands[1] == ("python3 -m venv .venv && .venv/bin/pip install -q -e '.[test]' && "
-                           ".venv/bin/python -m pytest -q")
+                           ".venv/bin/python -m pytest -q -n 2")
     # .ci/run runs the same test command
-    assert "-m pytest -q" in (ROOT / ".ci" / "run").read_text()
+    assert "\n.venv/bin/python -m pytest -q -n 2\n" in (ROOT / ".ci" / "run").read_text()
 
 
 def test_readme_links_and_images_resolve_and_no_placeholder_is_left():

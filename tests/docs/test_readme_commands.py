@@ -30,8 +30,8 @@ EXCLUDED = {
     ("README.md", "python3 -m venv .venv && .venv/bin/pip install -q . && .venv/bin/supcoord demo"):
         "a fresh virtualenv and install (needs the package index; .ci/run does it); what it leaves, "
         "`.venv/bin/supcoord demo`, is run as written before the README's other blocks",
-    ("README.md", "python3 -m venv .venv && .venv/bin/pip install -q -e '.[test]' && .venv/bin/python -m pytest -q"):
-        "the whole test suite in a fresh virtualenv (12-15 minutes; .ci/run runs it)",
+    ("README.md", "python3 -m venv .venv && .venv/bin/pip install -q -e '.[test]' && .venv/bin/python -m pytest -q -n 2"):
+        "the whole test suite in a fresh virtualenv (CONTRIBUTING.md gives its time; .ci/run runs it)",
     ("docs/study.md", "supcoord study run big.toml --scheduler tcp://login01:8786"):
         "needs a Dask scheduler on a cluster's login node",
 }

@@ -131,6 +131,7 @@ def _true_min_distance(ka, qa, da, kb, offset, qb, db) -> float:
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.slow
 def test_grazing_motions_are_decided_at_the_tolerance():
     """``bsum`` a hair (2e-4 mm) below or above the true least distance: free and colliding
     respectively — the certificate decides to within its 1e-6 mm tolerance, not coarser."""

@@ -41,6 +41,7 @@ def _dense_turn_min(seg, centre, angle, other, samples=40001):
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.slow
 def test_rotation_clearance_vs_dense_sampling():
     rng = np.random.default_rng(7)
     for trial in range(400):
@@ -447,6 +448,7 @@ def test_release_free_heap_returns_freed_table_memory(monkeypatch):
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("seed", range(3))
+@pytest.mark.slow
 def test_lazy_entries_lines_and_blocked_guards_equal_the_tables(seed):
     """Lazy tables (:attr:`CollisionTables.lazy`) decide each entry on its own
     (:meth:`CollisionTables.swept_entries`): on robots with their own arms, lattices, hard

@@ -69,6 +69,7 @@ def _visits_a_stale_level(model: CoupledModel) -> bool:
 
 
 @pytest.mark.timeout(240)
+@pytest.mark.slow
 def test_settled_ccc_equals_the_generic_route_and_the_explicit_twin_on_random_instances():
     kinds = Counter()
     for model in _random_models(seed=11, count=160):
@@ -276,6 +277,7 @@ def test_each_pattern_database_is_the_least_cost_of_its_relaxation():
 
 
 @pytest.mark.timeout(240)
+@pytest.mark.slow
 def test_a_blocked_group_answers_as_the_explicit_twin_does():
     """Groups of one in the bound (they never block) and certificate groups of two or three
     on crowded instances of 4-5 positioners: every "not forcible" answered by a blocked
@@ -305,6 +307,7 @@ def test_a_blocked_group_answers_as_the_explicit_twin_does():
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.slow
 def test_the_19_positioner_benchmark_instance_is_blocked():
     """``supcoord paper --positioners 19 --steps 8 --model coupled`` (seed 0) answers "not
     forcible" from a group of 5; a breadth-first search written here from the definition

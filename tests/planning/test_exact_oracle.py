@@ -130,6 +130,7 @@ CASES = [(seed, SETTINGS[seed % 5], None if seed % 8 == 3 else 0) for seed in ra
 
 
 @pytest.mark.timeout(180)
+@pytest.mark.slow
 def test_planner_agrees_with_the_oracle_on_exact_angles_and_reaches_every_route(monkeypatch):
     rec = Recorder(monkeypatch)
     for seed, setting, improve in CASES:
@@ -150,6 +151,7 @@ def test_planner_agrees_with_the_oracle_on_exact_angles_and_reaches_every_route(
 
 
 @pytest.mark.timeout(240)
+@pytest.mark.slow
 def test_lazy_tables_agree_with_the_oracle(monkeypatch):
     """With every problem's tables lazy (:attr:`CollisionTables.lazy`, what the real wok gets
     at fine lattices: each entry decided as the planner reads it, whole tables only for the

@@ -400,7 +400,8 @@ def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, 
             assert sorted(cert) == list(range(p.n))
 
 
-@pytest.mark.parametrize("pitch,seed", [(17.0, 6), (17.0, 8), (14.0, 6), (14.0, 11)])
+@pytest.mark.parametrize("pitch,seed", [pytest.param(17.0, 6, marks=pytest.mark.slow), pytest.param(17.0, 8, marks=pytest.mark.slow),
+                                         pytest.param(14.0, 6, marks=pytest.mark.slow), (14.0, 11)])
 def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
     """On the problem's own lattice (``refine=False``: both routes decide that model); a plan
     the local route then finds on a finer lattice is valid."""
@@ -544,7 +545,9 @@ def _reference_allowed(rp, r, t, u):
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("batched", [False, True])
-@pytest.mark.parametrize("kind,seed", [("ab", 0), ("ab", 4), ("angles", 94), ("obstacle", 94), ("obstacle", 98)])
+@pytest.mark.parametrize("kind,seed", [("ab", 0), ("ab", 4), pytest.param("angles", 94, marks=pytest.mark.slow),
+                                       pytest.param("obstacle", 94, marks=pytest.mark.slow),
+                                       pytest.param("obstacle", 98, marks=pytest.mark.slow)])
 def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batched):
     """The re-planner reads swept tables where one robot stands and computes the motions of
     both only where it needs them (end-point bound first): every mask it gives equals the
@@ -597,6 +600,7 @@ def _improved_valid(kind, seed, from_start=False):
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("kind,seed", [("ab", 8)])
+@pytest.mark.slow
 def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeypatch):
     """Where no group of the latest robot with its latest neighbours arrives earlier, a group
     with the neighbours in the way of its path without neighbours does (seeds where that
@@ -611,7 +615,7 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
 
 
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("kind,seed", [("rot", 9), ("ab", 2), ("ab", 5)])
+@pytest.mark.parametrize("kind,seed", [("rot", 9), ("ab", 2), pytest.param("ab", 5, marks=pytest.mark.slow)])
 def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, seed, monkeypatch):
     """Two neighbours that must give way to each other: planned one at a time neither can
     arrive earlier, planned together (``pair_replan``: the product of their positions in

@@ -77,6 +77,7 @@ CASES = [(seed, ["default", "windows A", "windows B", "windows C", "windows D"][
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.slow
 def test_planner_agrees_with_the_oracle_and_reaches_every_route(monkeypatch):
     rec = Recorder(monkeypatch)
     for seed, setting in CASES:

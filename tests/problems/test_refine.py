@@ -88,6 +88,7 @@ def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("seed", UNSOLVED)
+@pytest.mark.slow
 def test_where_the_finer_lattice_has_no_plan_either_the_coarse_certificate_stands(seed):
     p = parse_problem(_case(seed))
     plan = solve(p, improve=0)

@@ -390,6 +390,7 @@ def test_a_beta_swing_through_a_neighbour_is_found_by_bisection():
 
 
 @pytest.mark.timeout(240)
+@pytest.mark.slow
 def test_the_timing_of_tight_plans_passes_the_validator_and_needs_its_orders(monkeypatch):
     """The timing's claim (``supcoord.problems.timing``): every motion it makes of a plan is
     safe.  On tight random problems the trajectories alone, checked as a motion by the

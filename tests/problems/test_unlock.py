@@ -53,6 +53,7 @@ def test_a_robot_boxed_in_by_a_fiducial_gets_a_way_out():
     assert supcoord.validate_plan(p, plan)["valid"]
 
 
+@pytest.mark.slow
 def test_without_the_repair_the_lattice_has_no_plan(monkeypatch):
     monkeypatch.setattr(problem_module, "unlock_lattices", lambda problem: [])
     p = parse_problem(_apo_one_robot_out())

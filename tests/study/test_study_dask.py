@@ -33,6 +33,7 @@ def _case_processes() -> list[psutil.Process]:
 
 
 @pytest.mark.timeout(90)
+@pytest.mark.slow
 def test_a_killed_worker_loses_no_finished_case_and_the_next_run_does_only_what_is_left(tmp_path):
     study = study_from_dict({"name": "dask", "time_limit": 30, "cases": CASES})
     db = tmp_path / "dask.sqlite"

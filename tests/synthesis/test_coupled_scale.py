@@ -104,6 +104,7 @@ def test_every_order_gives_the_explicit_twins_and_libfaudes_supervisor(size, ste
         assert oracle.run(list(witness)) in oracle.marked and len(witness) == rank
 
 
+@pytest.mark.slow
 def test_every_order_gives_the_same_results_on_five_positioners():
     """Beyond the explicit twin's reach (5 positioners, 6 steps): the orders agree."""
     model = _model(5, 6, 0)
@@ -116,7 +117,7 @@ def test_run_paper_coupled_uses_the_bandwidth_order_and_the_same_answers():
     assert r.payload["supervisor_states"] == _results(_model(4, 6), "layout")[0]
 
 
-@pytest.mark.parametrize("size, seed", [(3, 0), (4, 1), (5, 0)])
+@pytest.mark.parametrize("size, seed", [(3, 0), (4, 1), pytest.param(5, 0, marks=pytest.mark.slow)])
 def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeypatch):
     """The coupled route synthesizes V without Reach and runs CCC on it: the verdict,
     rank and witness of the trim supervisor; its sizes are counted up to
