@@ -23,11 +23,10 @@ def _random_set(ctx: Context, rng: np.random.Generator, names: list[str], size: 
 
 
 @pytest.mark.timeout(60)
-@pytest.mark.parametrize("backend", ["cudd", "autoref"])
-def test_kept_cubes_quantify_like_dd(monkeypatch, backend):
+def test_kept_cubes_quantify_like_dd(monkeypatch, bdd_backend):
     rng = np.random.default_rng(5)
     names = [f"x{i}" for i in range(8)]
-    ctx = Context(backend)
+    ctx = Context(bdd_backend)
     for n in names:
         ctx.add_variable(n, 6)
     for _ in range(200):

@@ -69,19 +69,18 @@ def test_tct_numbering():
         tct_event("x")
 
 
-def test_meet_needs_equal_alphabets():
+def test_meet_needs_equal_alphabets(bdd_backend):
     a = Generator(1, [Event("a", True)], [])
     b = Generator(1, [Event("b", True)], [])
     with pytest.raises(AlphabetError):
         X.meet(a, b)
-    ctx = Context()
+    ctx = Context(bdd_backend)
     with pytest.raises(AlphabetError):
         S.meet(from_explicit(ctx, a), from_explicit(ctx, b))
 
 
-@pytest.mark.parametrize("backend", ["cudd", "autoref"])
-def test_exact_count_beyond_double_precision(backend):
-    ctx = Context(backend)
+def test_exact_count_beyond_double_precision(bdd_backend):
+    ctx = Context(bdd_backend)
     names = [ctx.add_variable(f"y{i}", 3).name for i in range(120)]
     assert ctx.count(ctx.domain(names), names) == 3**120
 

@@ -117,12 +117,12 @@ def test_product_layers_equal_naive_on_accessible_part(gens, semantics):
         assert lay.rank(values(q)) == rank_naive(naive, q)
 
 
-def test_decomposition_counterexample_design_md():
+def test_decomposition_counterexample_design_md(bdd_backend):
     """Component 1: a -u-> b -u2-> a, target a; component 2: s -c-> t, target t.
     The product's winning set is not the product of the components' winning sets."""
     c1 = Generator(2, [Event("u", False), Event("u2", False)], [(0, "u", 1), (1, "u2", 0)], 0, [0], "C1")
     c2 = Generator(2, [Event("c", True)], [(0, "c", 1)], 0, [1], "C2")
-    ctx = Context()
+    ctx = Context(bdd_backend)
     a, b = from_explicit(ctx, c1, "x1"), from_explicit(ctx, c2, "x2")
     P = S.sync(a, b)
     expected = {"preemptive": (2, 2, 4, 2), "standard": (1, 2, 2, 1)}
@@ -162,7 +162,7 @@ def paper_positioner(prone, coupled=False, n=4, start=0, target=2):
 
 
 @pytest.mark.parametrize("semantics", SEMANTICS)
-def test_literal_paper_model_k_e_cycle_blocks_forcibility(semantics):
+def test_literal_paper_model_k_e_cycle_blocks_forcibility(semantics, bdd_backend):
     """Literal model: k and e may fire whenever the generator allows, so the environment
     can cycle k, e, k, e, … at a collision-prone position: with every route from q_0 to
     q_2 crossing one (positions 1 and 3), q_0 is not forcible under either semantics;
@@ -170,7 +170,7 @@ def test_literal_paper_model_k_e_cycle_blocks_forcibility(semantics):
     for prone, expect in [({1, 3}, None), ({1}, ["w", "w"])]:
         g = paper_positioner(prone)
         naive = forcible_layers_naive(g, g.marked, semantics)
-        G = from_explicit(Context(), g)
+        G = from_explicit(Context(bdd_backend), g)
         r = ccc(G, semantics)
         assert r.rank == rank_naive(naive, 0)
         assert (r.witness if r.forcible else None) == expect
@@ -275,10 +275,9 @@ def test_ccc_early_stop_and_bfa_by_component_states():
     assert dag.rank({"k0": 1, "k1": 0}) == 3 and dag.rank({"k0": 0, "k1": 0}) is None
 
 
-@pytest.mark.parametrize("backend", ["cudd", "autoref"])
-def test_both_backends_agree_with_the_twin(backend):
+def test_both_backends_agree_with_the_twin(bdd_backend):
     g = paper_positioner({1, 3}, coupled=True)
-    G = from_explicit(Context(backend), g)
+    G = from_explicit(Context(bdd_backend), g)
     for semantics in SEMANTICS:
         lay = forcible_layers(G, G.marked, semantics=semantics)
         assert state_sets(G, lay.layers, g.n_states) == forcible_layers_naive(g, g.marked, semantics)

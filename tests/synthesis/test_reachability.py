@@ -114,9 +114,9 @@ def test_naive_twins_agree_with_libfaudes(data):
     assert faudes_coaccessible(g) == coreachable_naive(g)
 
 
-def test_methods_on_a_product_of_independent_counters():
+def test_methods_on_a_product_of_independent_counters(bdd_backend):
     """Eight independent 5-state counters: 5^8 reachable states by every method."""
-    ctx = Context()
+    ctx = Context(bdd_backend)
     gens = []
     for i in range(8):
         ev = Event(f"up{i}", i % 2 == 0)
@@ -134,8 +134,8 @@ def test_methods_on_a_product_of_independent_counters():
     assert clusters[0] == ["up7"] and clusters[-1] == ["up0"]
 
 
-def test_unknown_method_is_refused():
-    ctx = Context()
+def test_unknown_method_is_refused(bdd_backend):
+    ctx = Context(bdd_backend)
     G = from_explicit(ctx, Generator(2, [Event("a", True)], [(0, "a", 1)], 0, [1]))
     try:
         reachable(G, method="dfs")

@@ -183,9 +183,9 @@ def small_factory():
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_small_factory(method):
+def test_small_factory(method, bdd_backend):
     plants, specs = small_factory()
-    ctx = Context()
+    ctx = Context(bdd_backend)
     Gs, Es = symbolic(ctx, plants), symbolic(ctx, specs)
     result = supcon(Gs, lift_spec(Gs, Es), method=method)
     assert (result.stats["states"], result.stats["transitions"]) == (12, 24)
@@ -196,9 +196,9 @@ def test_small_factory(method):
     assert (tct["states"], tct["transitions"]) == (1, 0)
 
 
-def test_supervisor_is_product_restricted():
+def test_supervisor_is_product_restricted(bdd_backend):
     plants, specs = small_factory()
-    ctx = Context()
+    ctx = Context(bdd_backend)
     Gs, Es = symbolic(ctx, plants), lift_spec(symbolic(ctx, plants), symbolic(ctx, specs))
     V = supcon(Gs, Es, name="SUP").supervisor
     assert V.name == "SUP" and V.variables == Gs.variables + Es.variables
@@ -210,14 +210,14 @@ def test_supervisor_is_product_restricted():
 # -- errors ------------------------------------------------------------------
 
 
-def test_spec_event_unknown_to_plant():
+def test_spec_event_unknown_to_plant(bdd_backend):
     a, z = Event("a", True), Event("z", False)
     G = Generator(1, [a], [(0, "a", 0)], 0, [0], "G")
     E = Generator(1, [a, z], [(0, "z", 0)], 0, [0], "E")
     with pytest.raises(AlphabetError) as info:
         supcon_naive(G, E)
     assert info.value.value == "z"
-    ctx = Context()
+    ctx = Context(bdd_backend)
     err = raised(AlphabetError, supcon, from_explicit(ctx, G), from_explicit(ctx, E))
     assert err.value == "z" and "'z'" in str(err)
 
@@ -230,22 +230,22 @@ def test_controllability_conflict():
     assert info.value.value == "a"
 
 
-def test_empty_plant_alphabet():
+def test_empty_plant_alphabet(bdd_backend):
     G = Generator(1, [], [], 0, [0], "EMPTY")
     E = Generator(1, [], [], 0, [0], "E")
     with pytest.raises(AlphabetError) as info:
         supcon_naive(G, E)
     assert info.value.value == "EMPTY"
-    ctx = Context()
+    ctx = Context(bdd_backend)
     raised(AlphabetError, supcon, from_explicit(ctx, G), from_explicit(ctx, E))
 
 
-def test_nondeterministic_input():
+def test_nondeterministic_input(bdd_backend):
     with pytest.raises(NondeterminismError) as info:
         Generator(2, [Event("a", True)], [(0, "a", 0), (0, "a", 1)])
     assert info.value.value == (0, "a", (0, 1))
     # a symbolic generator built by hand with two successors on one event
-    ctx = Context()
+    ctx = Context(bdd_backend)
     ctx.add_variable("x", 3)
     rel = ctx.eq("x", 0) & (ctx.eq("x", 1, primed=True) | ctx.eq("x", 2, primed=True))
     ev = Event("a", True)
@@ -257,26 +257,26 @@ def test_nondeterministic_input():
     check_deterministic(from_explicit(ctx, small_factory()[0][0]))  # no error
 
 
-def test_generators_from_other_contexts_are_refused():
+def test_generators_from_other_contexts_are_refused(bdd_backend):
     plants, specs = small_factory()
-    c1, c2 = Context(), Context()
+    c1, c2 = Context(bdd_backend), Context(bdd_backend)
     raised(InputError, supcon, from_explicit(c1, plants[0]), from_explicit(c2, over(plants[0].alphabet, specs[1])))
 
 
-def test_unknown_method():
+def test_unknown_method(bdd_backend):
     plants, _ = small_factory()
-    ctx = Context()
+    ctx = Context(bdd_backend)
     G = from_explicit(ctx, plants[0])
     assert raised(InputError, supcon, G, lift_spec(G, S.allevents(ctx, [])), method="dfs").value == "dfs"
 
 
-def test_lift_spec_both_types():
+def test_lift_spec_both_types(bdd_backend):
     plants, specs = small_factory()
     G = X.sync(*plants)
     lifted = lift_spec(G, specs[0])
     assert set(lifted.events) == set(G.events)
     assert lifted.successor(0, "11") == 0 and lifted.successor(0, "10") == 1
-    ctx = Context()
+    ctx = Context(bdd_backend)
     Ls = lift_spec(symbolic(ctx, plants), from_explicit(ctx, specs[0]))
     assert to_explicit(Ls).same_as(lifted)
     assert lift_spec(G.alphabet, lifted).same_as(lifted)  # nothing to add

@@ -123,10 +123,10 @@ def test_strategy_matches_its_definition(inst, semantics):
         assert covered == acting
 
 
-def test_witness_on_a_product_and_from_component_states():
+def test_witness_on_a_product_and_from_component_states(bdd_backend):
     """A 3 x 3 x 3 product of counters: the witness has length rank = 6 and reads
     ascending-name moves; the source may be given by its component states."""
-    ctx = Context()
+    ctx = Context(bdd_backend)
     comps = []
     for i in range(3):
         g = Generator(3, [Event(f"c{i}", True)], [(0, f"c{i}", 1), (1, f"c{i}", 2)], 0, [2], f"K{i}")
@@ -153,12 +153,12 @@ def test_witness_on_a_product_and_from_component_states():
         witness(P, lay, P.invariant)  # a set, not one state
 
 
-def test_standard_witness_takes_the_lowest_ranked_controllable_successor():
+def test_standard_witness_takes_the_lowest_ranked_controllable_successor(bdd_backend):
     """Standard semantics: rank(q) = 1 + max(min_c rank δ(q,c), max_u rank δ(q,u)), so a
     controllable successor can lie two layers down; the witness takes it (z, not a)."""
     ev = [Event("a", True), Event("z", True), Event("c", True), Event("u", False)]
     g = Generator(4, ev, [(0, "a", 2), (0, "z", 1), (0, "u", 3), (2, "c", 1), (3, "c", 1)], 0, [1])
-    G = from_explicit(Context(), g)
+    G = from_explicit(Context(bdd_backend), g)
     lay = forcible_layers(G, G.marked, semantics="standard")
     assert lay.rank(0) == 2
     assert witness(G, lay) == ["z"] == witness_naive(g, forcible_layers_naive(g, [1], "standard"), 0, "standard")
@@ -170,13 +170,13 @@ def test_standard_witness_takes_the_lowest_ranked_controllable_successor():
     assert witness(G, pre) == ["u", "c"]
 
 
-def test_standard_witness_never_waits_for_the_environment():
+def test_standard_witness_never_waits_for_the_environment(bdd_backend):
     """0 -c-> 1 -c-> 2 (target) and 0 -u-> 2: rank(0) = 2 under standard semantics; the
     uncontrollable shortcut u reaches the target in one event, but the controller cannot
     make it happen: the witness forces c, c (and u is still one of the forcible paths)."""
     ev = [Event("c", True), Event("u", False)]
     g = Generator(3, ev, [(0, "c", 1), (1, "c", 2), (0, "u", 2)], 0, [2])
-    G = from_explicit(Context(), g)
+    G = from_explicit(Context(bdd_backend), g)
     lay = forcible_layers(G, G.marked, semantics="standard")
     assert lay.rank(0) == 2
     assert witness(G, lay) == ["c", "c"] == witness_naive(g, forcible_layers_naive(g, [2], "standard"), 0, "standard")
