@@ -51,7 +51,6 @@ KNOWN_LONG: set[str] = {
     "supcoord.study.fit.fit_growth",  # complexity 27
     "supcoord.study.plots._draw_metric",  # complexity 44
     "supcoord.study.spec.study_from_dict",  # complexity 32
-    "supcoord.testing.oracle.tight_problems.tight_angle_problem",  # complexity 41, 87 lines
 }
 
 #: functions outside supcoord.problems that wrote into an object's __dict__ when this test was written

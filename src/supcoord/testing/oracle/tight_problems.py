@@ -197,12 +197,9 @@ def _fibre_ok(kin: dict, conf: list[tuple[float, float]]) -> bool:
     return True
 
 
-def tight_angle_problem(seed: int, n: int | None = None, max_product: int = ANGLE_MAX_PRODUCT,
-                        tight: tuple[float, float] = (0.25, 0.6)) -> dict[str, Any]:
-    """A random tight problem with exact start and target angles (module docstring) as
-    PROBLEM.json; ``n`` overrides the number of robots (2–5), ``max_product`` bounds the
-    number of configurations, ``tight`` the range of neighbour distance / reach."""
-    rng = np.random.default_rng(seed)
+def _angle_kinematics(rng: np.random.Generator, n: int | None, max_product: int) -> tuple[int, dict[str, Any]]:
+    """The number of robots and their alpha-beta kinematics, with at most ``max_product``
+    configurations in all."""
     sizes = [k for k in (2, 2, 3, 3, 3, 4, 4, 5) if 12**k <= max_product] or [2]
     n = int(n or rng.choice(sizes))
     cap = int(max_product ** (1.0 / n) + 1e-9)
@@ -220,67 +217,101 @@ def tight_angle_problem(seed: int, n: int | None = None, max_product: int = ANGL
         kin["alpha_range"] = list(arange)
     elif a_steps < 4:
         kin["alpha_steps"] = 4
+    return n, kin
+
+
+def _end_forms(rng: np.random.Generator) -> list[str]:
+    """How the start and the target are written: ``deg`` (angles), ``index`` or ``xy``."""
+    forms = ["deg", "deg"]
+    r = rng.random()
+    if r < 0.25:
+        forms[int(rng.integers(2))] = "index"
+    elif r < 0.5:
+        forms[int(rng.integers(2))] = "xy"
+    elif r < 0.6:
+        forms = ["xy", "xy"]
+    return forms
+
+
+def _xy_side(rng: np.random.Generator, kin: dict, bases: list[complex],
+             conf: list[tuple[float, float]]) -> dict[str, Any] | None:
+    """``conf`` as fibre positions with a handedness, or None where the robots' hands differ."""
+    pts, hands = [], []
+    for p, (al, be) in enumerate(conf):
+        _, f = _pose(kin["alpha"], kin["beta"], al, be)
+        f += bases[p]
+        pts.append([float(f.real), float(f.imag)])
+        hands.append("right" if math.sin(math.radians(be)) > 0 else "left")
+    if len(set(hands)) == 1 and hands[0] == "right":
+        hand = "right" if rng.random() < 0.5 else "any"
+    elif len(set(hands)) == 1:
+        hand = "left"
+    else:
+        return None
+    return {"xy_mm": pts, "handedness": hand}
+
+
+def _side(rng: np.random.Generator, form: str, kin: dict, bases: list[complex],
+          conf: list[tuple[float, float]]) -> Any:
+    """The start or target ``conf`` (exact angles) written in ``form`` (``xy`` falls back to
+    angles where inverse kinematics would be ill-conditioned or the hands differ)."""
+    arange = kin.get("alpha_range")
+    if form == "xy" and not _fibre_ok(kin, conf):
+        form = "deg"
+    if form == "index":
+        ga = uniform_deg(kin["alpha_steps"], arange is None, *(arange or (0.0, 360.0)))
+        gb = uniform_deg(kin["beta_steps"], False, *kin["beta_range"])
+        return [[int(np.argmin(np.abs(ga - al))), int(np.argmin(np.abs(gb - be)))] for al, be in conf]
+    if form == "xy":
+        side = _xy_side(rng, kin, bases, conf)
+        return side if side is not None else {"alpha_beta_deg": [[al, be] for al, be in conf]}
+    rows = []
+    for al, be in conf:  # a wrapping alpha may come as any turn
+        if arange is None and rng.random() < 0.2:
+            al = al + 360.0 * float(rng.choice([-1, 1]))
+        rows.append([al, be])
+    return {"alpha_beta_deg": rows}
+
+
+def _angle_problem_on_a_layout(rng: np.random.Generator, seed: int, n: int, kin: dict, arm: Arm, margin: float,
+                               tight: tuple[float, float]) -> dict[str, Any] | None:
+    """One draw of a layout, buffers, start and target for ``tight_angle_problem``, or None
+    where no collision-free ends were found or the oracle refuses the problem."""
+    shape, xy = _layout(rng, n, arm.reach, False, tight)
+    buffer: Any = (round(float(rng.uniform(0.8, 3.0)), 3) if rng.random() < 0.6
+                   else [round(float(v), 3) for v in rng.uniform(0.8, 3.0, n)])
+    bases = [complex(x, y) for x, y in xy]
+    buf = np.broadcast_to(np.asarray(buffer, dtype=float), (n,))
+    need = buf[:, None] + buf[None, :] + margin
+    forms = _end_forms(rng)
+    ends = [_angle_conf(rng, kin, bases, need, grid=form == "index") for form in forms]
+    if any(e is None for e in ends):
+        return None
+    sides = [_side(rng, form, kin, bases, conf) for form, conf in zip(forms, ends)]
+    collision: dict[str, Any] = {"buffer": buffer}
+    if margin:
+        collision["margin"] = margin
+    data = {"layout": {"kind": "points", "xy": xy}, "kinematics": kin, "collision": collision,
+            "start": sides[0], "target": sides[1],
+            "name": f"tight angles {n} {shape} {'/'.join(forms)}", "seed": int(seed)}
+    try:
+        OracleProblem.from_json(data)
+    except OracleInputError:
+        return None
+    return data
+
+
+def tight_angle_problem(seed: int, n: int | None = None, max_product: int = ANGLE_MAX_PRODUCT,
+                        tight: tuple[float, float] = (0.25, 0.6)) -> dict[str, Any]:
+    """A random tight problem with exact start and target angles (module docstring) as
+    PROBLEM.json; ``n`` overrides the number of robots (2–5), ``max_product`` bounds the
+    number of configurations, ``tight`` the range of neighbour distance / reach."""
+    rng = np.random.default_rng(seed)
+    n, kin = _angle_kinematics(rng, n, max_product)
     arm = Arm.from_json(kin)
     margin = round(float(rng.uniform(0.2, 1.5)), 3) if rng.random() < 0.35 else 0.0
     for _ in range(50):
-        shape, xy = _layout(rng, n, arm.reach, False, tight)
-        buffer: Any = (round(float(rng.uniform(0.8, 3.0)), 3) if rng.random() < 0.6
-                       else [round(float(v), 3) for v in rng.uniform(0.8, 3.0, n)])
-        bases = [complex(x, y) for x, y in xy]
-        buf = np.broadcast_to(np.asarray(buffer, dtype=float), (n,))
-        need = buf[:, None] + buf[None, :] + margin
-        forms = ["deg", "deg"]
-        r = rng.random()
-        if r < 0.25:
-            forms[int(rng.integers(2))] = "index"
-        elif r < 0.5:
-            forms[int(rng.integers(2))] = "xy"
-        elif r < 0.6:
-            forms = ["xy", "xy"]
-        ends = []
-        for form in forms:
-            ends.append(_angle_conf(rng, kin, bases, need, grid=form == "index"))
-        if any(e is None for e in ends):
-            continue
-        sides = []
-        for form, conf in zip(forms, ends):
-            if form == "xy" and not _fibre_ok(kin, conf):
-                form = "deg"
-            if form == "index":
-                ga = uniform_deg(kin["alpha_steps"], arange is None, *(arange or (0.0, 360.0)))
-                gb = uniform_deg(kin["beta_steps"], False, *kin["beta_range"])
-                sides.append([[int(np.argmin(np.abs(ga - al))), int(np.argmin(np.abs(gb - be)))] for al, be in conf])
-            elif form == "xy":
-                pts, hands = [], []
-                for p, (al, be) in enumerate(conf):
-                    _, f = _pose(kin["alpha"], kin["beta"], al, be)
-                    f += bases[p]
-                    pts.append([float(f.real), float(f.imag)])
-                    hands.append("right" if math.sin(math.radians(be)) > 0 else "left")
-                if len(set(hands)) == 1 and hands[0] == "right":
-                    hand = "right" if rng.random() < 0.5 else "any"
-                elif len(set(hands)) == 1:
-                    hand = "left"
-                else:  # mixed handedness: give angles instead
-                    sides.append({"alpha_beta_deg": [[al, be] for al, be in conf]})
-                    continue
-                sides.append({"xy_mm": pts, "handedness": hand})
-            else:
-                rows = []
-                for al, be in conf:  # a wrapping alpha may come as any turn
-                    if arange is None and rng.random() < 0.2:
-                        al = al + 360.0 * float(rng.choice([-1, 1]))
-                    rows.append([al, be])
-                sides.append({"alpha_beta_deg": rows})
-        collision: dict[str, Any] = {"buffer": buffer}
-        if margin:
-            collision["margin"] = margin
-        data = {"layout": {"kind": "points", "xy": xy}, "kinematics": kin, "collision": collision,
-                "start": sides[0], "target": sides[1],
-                "name": f"tight angles {n} {shape} {'/'.join(forms)}", "seed": int(seed)}
-        try:
-            OracleProblem.from_json(data)
-        except OracleInputError:
-            continue
-        return data
+        data = _angle_problem_on_a_layout(rng, seed, n, kin, arm, margin, tight)
+        if data is not None:
+            return data
     raise OracleInputError(f"seed {seed}: no collision-free angles in 50 layouts", value=seed)
