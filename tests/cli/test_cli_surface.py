@@ -719,7 +719,8 @@ def test_negative_seed_is_a_user_error():
     assert "--seed" in line, line
 
 
-@pytest.mark.parametrize("command", sorted(COMMANDS))
+@pytest.mark.parametrize("command", [pytest.param(c, marks=pytest.mark.slow) if c == "demo" else c
+                                     for c in sorted(COMMANDS)])  # demo solves and writes figures: slow
 def test_fuzz_command_lines(command, tmp_path_factory):
     """Any mix of options and values: an answer (0), a user error (2, one line) or a
     budget (3) — never a traceback, never two JSON objects."""

@@ -234,6 +234,7 @@ def gen_texts(draw):
 
 @settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck), database=None)
 @given(gen_texts())
+@pytest.mark.slow
 def test_random_layouts_read_as_libfaudes_reads_them(tmp_path_factory, case):
     text, flagged = case
     path = tmp_path_factory.mktemp("gen") / "g.gen"

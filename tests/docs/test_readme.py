@@ -6,10 +6,13 @@ import doctest
 import re
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 README = ROOT / "README.md"
 
 
+@pytest.mark.slow
 def test_readme_python_example_runs(monkeypatch):
     """The ``>>>`` block under "From Python" is a doctest, so its outputs cannot go stale."""
     monkeypatch.setenv("MPLBACKEND", "Agg")

@@ -101,6 +101,7 @@ def test_gif_is_smooth_small_and_shows_collisions_in_red(tmp_path, three):
         save_plan_gif(three, _valid_plan(three), tmp_path / "x.png")
 
 
+@pytest.mark.slow
 def test_strip_is_a_grid_of_readable_panels(tmp_path, three):
     out = save_plan_strip(three, _valid_plan(three), tmp_path / "strip.png", max_frames=8)
     w, h = Image.open(out).size

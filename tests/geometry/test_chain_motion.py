@@ -77,6 +77,7 @@ def test_chain_poses_are_the_kinematics_segments():
 
 
 @pytest.mark.timeout(120)
+@pytest.mark.slow
 def test_chain_motion_agrees_with_motion_collides():
     rng = np.random.default_rng(11)
     verdicts = []

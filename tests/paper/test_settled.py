@@ -90,7 +90,8 @@ def test_settled_ccc_equals_the_generic_route_and_the_explicit_twin_on_random_in
 
 
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("size, steps, seed", [(3, 8, 0), (4, 6, 1), (5, 6, 0), (6, 8, 0)])
+@pytest.mark.parametrize("size, steps, seed", [(3, 8, 0), (4, 6, 1), (5, 6, 0),
+                                                  pytest.param(6, 8, 0, marks=pytest.mark.slow)])
 def test_settled_ccc_equals_the_generic_route_on_the_benchmark_instances(size, steps, seed):
     model = CoupledModel(coupled_instance(size, steps, seed))
     fast = settled_ccc(model)

@@ -281,6 +281,7 @@ def _uniform_deg(data: dict, conf: list) -> dict:
 
 
 @pytest.mark.timeout(60)
+@pytest.mark.slow
 def test_the_oracles_own_lattices_answer_like_its_uniform_ones():
     """Within the oracle: a problem of indices, the same with its starts and targets given as
     the uniform positions' angles (every robot's own lattice is then the uniform one), and

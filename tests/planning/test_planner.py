@@ -127,6 +127,7 @@ def test_priority_breaks_ties():
 
 
 @pytest.mark.parametrize("rings,seed", [(1, 0), (1, 1), (1, 2)])
+@pytest.mark.slow
 def test_local_and_monolithic_agree_on_grids(rings, seed):
     p = random_problem({"kind": "hex", "rings": rings, "pitch": 22.4}, ROT, 2.0, seed=seed)
     local = solve(p)
@@ -237,6 +238,7 @@ def small_problems(draw):
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(small_problems())
+@pytest.mark.slow
 def test_local_route_verdicts_equal_the_oracle(p):
     """Drawn distances may put arms at exactly the buffer sum (15 + 4 = 19 mm): the oracle's
     bounds (ties free, ties blocked) then frame the answer instead of one distance."""
@@ -367,6 +369,7 @@ def test_timeline_schedule_is_valid_and_never_longer_than_the_sequence(name, see
     assert validate_plan(p, Plan("complete", confs))["valid"]
 
 
+@pytest.mark.slow
 def test_timeline_schedule_on_a_grid_plan_is_valid_and_shorter_than_asap():
     p = random_problem({"kind": "hex", "rings": 2, "pitch": 22.4}, AB_SDSS, 2.0, seed=1)
     plan = solve(p, validate=False)
@@ -401,7 +404,8 @@ def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, 
 
 
 @pytest.mark.parametrize("pitch,seed", [pytest.param(17.0, 6, marks=pytest.mark.slow), pytest.param(17.0, 8, marks=pytest.mark.slow),
-                                         pytest.param(14.0, 6, marks=pytest.mark.slow), (14.0, 11)])
+                                         pytest.param(14.0, 6, marks=pytest.mark.slow),
+                                         pytest.param(14.0, 11, marks=pytest.mark.slow)])
 def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
     """On the problem's own lattice (``refine=False``: both routes decide that model); a plan
     the local route then finds on a finer lattice is valid."""

@@ -39,6 +39,7 @@ def test_lattice_holding_keeps_every_needed_angle_and_the_size(wraps):
     assert lattice_holding(table, list(range(20)), [], wraps) is None  # more angles than positions
 
 
+@pytest.mark.slow
 def test_a_robot_boxed_in_by_a_fiducial_gets_a_way_out():
     p = parse_problem(_apo_one_robot_out())
     assert len(p.warnings) == 1 and p.warnings[0].startswith("robot 386:")
@@ -73,6 +74,7 @@ def test_robots_that_are_free_keep_their_lattices(monkeypatch):
                for a, b in zip(p.robot_kinematics, plain.robot_kinematics) for j in (0, 1))
 
 
+@pytest.mark.slow
 def test_solve_warns_and_check_reads_the_plan_on_the_same_lattices(tmp_path):
     import json
     import subprocess
