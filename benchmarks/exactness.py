@@ -1,6 +1,6 @@
 """Benchmark: exactness — the independent oracle against ``solve`` on random tight problems.
 
-Every problem is drawn by :func:`supcoord.testing.oracle.cases.tight_problem` from its
+Every problem is drawn by :func:`supcoord.testing.oracle.tight_problems.tight_problem` from its
 seed alone (rotary or alpha-beta, 2–6 positioners, at most ``--max-product``
 configurations, bases 0.45–1.2 reaches apart: about 40 % have no plan; a seed ending in 7
 uses round numbers, arms touching at exactly the buffer sum).  It is solved by
@@ -97,8 +97,8 @@ def run_case(seed: int) -> dict:
     from supcoord.problems import parse_problem, validate_plan
     from supcoord.testing.oracle import oracle_bounds
     from supcoord.testing.oracle.bfs import Space
-    from supcoord.testing.oracle.cases import tight_problem
-    from supcoord.testing.oracle.model import OracleProblem
+    from supcoord.testing.oracle.tight_problems import tight_problem
+    from supcoord.testing.oracle.oracle_model import OracleProblem
 
     data = tight_problem(seed, max_product=_MAX_PRODUCT[0])
     kin = data["kinematics"]
@@ -240,7 +240,7 @@ def report(rows: list[dict], command: str, started: str, load0, load1, wall: flo
          f"{sum(r.get('valid') is False for r in rows)} invalid plans, {sum('error' in r for r in rows)} solve errors, "
          f"{sum(bool(r.get('certificate_confirmed')) for r in rows)} of "
          f"{sum(r.get('status') == 'infeasible' for r in rows)} certificates confirmed by the oracle.**"), "",
-        ("Random tight problems of `supcoord.testing.oracle.cases.tight_problem(seed)` (module docstring of "
+        ("Random tight problems of `supcoord.testing.oracle.tight_problems.tight_problem(seed)` (module docstring of "
         "this script); half on the default route, half with the window route forced "
         "(`SMALL_COMPONENT = 0`, levels (18, 60, 200, None) / (12, 40, 135, None) / (30, 300, None), greedy "
         "descent on and off). *Ties*: seeds ending in 7 use round numbers (arms of 15 mm, bases 19 mm apart, "

@@ -51,27 +51,27 @@ class Target:
 
 TARGETS = [
     Target("store", "study store", ("study/store.py", "study/resume.py", "study/execute.py"),
-           ("tests/test_study_resume.py", "tests/test_study_store_rows.py", "tests/test_study_spec.py")),
+           ("tests/study/test_study_resume.py", "tests/study/test_study_store_rows.py", "tests/study/test_study_spec.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
-           ("tests/test_timing_buffers.py", "tests/test_sweeps_apart.py")),
+           ("tests/problems/test_timing_buffers.py", "tests/geometry/test_sweeps_apart.py")),
     Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",),
-           ("tests/test_supcon.py", "tests/test_supcon_lift.py", "tests/test_supcon_accessible.py")),
+           ("tests/synthesis/test_supcon.py", "tests/synthesis/test_supcon_lift.py", "tests/synthesis/test_supcon_accessible.py")),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
-           ("tests/test_reachability.py", "tests/test_reachability_within.py",
-            "tests/test_reachability_names.py", "tests/test_reachability_schedules.py")),
+           ("tests/synthesis/test_reachability.py", "tests/synthesis/test_reachability_within.py",
+            "tests/synthesis/test_reachability_names.py", "tests/synthesis/test_reachability_schedules.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
-           ("tests/test_forcibility.py", "tests/test_forcibility_bfa.py", "tests/test_witness.py",
-            "tests/test_witness_env_choice.py")),
+           ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_forcibility_bfa.py", "tests/synthesis/test_witness.py",
+            "tests/synthesis/test_witness_env_choice.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
-           ("tests/test_gen_sections.py", "tests/test_gen_refusal_values.py", "tests/test_gen_compat.py",
-            "tests/test_gen_compat_export.py", "tests/test_io.py")),
+           ("tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
+            "tests/des/test_gen_compat_export.py", "tests/des/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
-           ("tests/test_sweep_heterogeneous.py", "tests/test_sweep.py", "tests/test_collision.py")),
+           ("tests/geometry/test_sweep_heterogeneous.py", "tests/geometry/test_sweep.py", "tests/geometry/test_collision.py")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/test_validate.py", "tests/test_validate_messages.py")),  # (test_safety: see the notes)
+           ("tests/problems/test_validate.py", "tests/problems/test_validate_messages.py")),  # (test_safety: see the notes)
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
-           ("tests/test_descent_merged.py", "tests/test_planner_oracle.py", "tests/test_planner.py")),
+           ("tests/planning/test_descent_merged.py", "tests/planning/test_planner_oracle.py", "tests/planning/test_planner.py")),
 ]
 BY_NAME = {t.name: t for t in TARGETS}
 
@@ -190,38 +190,38 @@ package each time), several times slower on two shared cores.
 reach are *not checked* and left out of the score, so a partial run's score is about the
 mutants it checked only. Modules marked *not run* were not run for lack of machine time
 in this session (two cores shared by several people); the command above runs them.
-The study store's tests exclude `tests/test_study_run.py` (whole studies on Dask, whose
+The study store's tests exclude `tests/study/test_study_run.py` (whole studies on Dask, whose
 interruption test fails under mutmut's tracing), so `run_study` and the Dask executor are
 *no tests* there. The `.gen` reader's run checked `gen_parser.py`'s mutants only
 (`--mutants 'supcoord.des.io.gen_parser.*'`); the timing's run used
-`tests/test_timing_buffers.py` and `tests/test_sweeps_apart.py` (not the slower
-`tests/test_trajectories.py`).
+`tests/problems/test_timing_buffers.py` and `tests/geometry/test_sweeps_apart.py` (not the slower
+`tests/problems/test_trajectories.py`).
 
 **Runs so far** (the *run* column shows only each module's last run; a run of some mutants
 (`--mutants`) keeps the other mutants' verdicts). *store*: all 886 mutants (523 s), its 9
-killable survivors again after `tests/test_study_store_rows.py` (67 s): every mutant in a
+killable survivors again after `tests/study/test_study_store_rows.py` (67 s): every mutant in a
 function the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30
 minutes (the tests take several seconds a mutant on the loaded machine); `timing.py`'s other
 mutants and all of `sweeps_apart.py`'s are *not checked*. *gen-reader*: the first 48 of
-`gen_parser.py`'s mutants (about 25 minutes: `tests/test_gen_compat.py` and
-`tests/test_gen_sections.py` run hundreds of libFAUDES comparisons a mutant), its survivors
-again after `tests/test_gen_refusal_values.py`; the rest, `gen_bulk.py` and `gen_write.py`
+`gen_parser.py`'s mutants (about 25 minutes: `tests/des/test_gen_compat.py` and
+`tests/des/test_gen_sections.py` run hundreds of libFAUDES comparisons a mutant), its survivors
+again after `tests/des/test_gen_refusal_values.py`; the rest, `gen_bulk.py` and `gen_write.py`
 are *not checked*. *reachability*: 900 s over all mutants (the wrappers, the naive twins,
 `_clusters`, parts of `_merge_by_writes`), then 1100 s over the survivors and `_saturate`
-after `tests/test_reachability_names.py` and `tests/test_reachability_schedules.py`, then
+after `tests/synthesis/test_reachability_names.py` and `tests/synthesis/test_reachability_schedules.py`, then
 the survivors again; `_bfs`, `_chaining`, `_sweep`, `_fixpoint` and the rest of `_saturate`
 are *not checked*. *supcon*: 1200 s (one worker) over `supcon.py` (`supcon_flat`, the
-result's `summary` and reprs are *no tests*: `tests/test_supcon.py` does not call them),
-then `lift_spec`'s survivors after `tests/test_supcon_lift.py`; the mutants of `supcon`
+result's `summary` and reprs are *no tests*: `tests/synthesis/test_supcon.py` does not call them),
+then `lift_spec`'s survivors after `tests/synthesis/test_supcon_lift.py`; the mutants of `supcon`
 itself not reached are *not checked*. *forcibility*: 900 s (one worker) reaching the
 wrappers, `bfa_naive`, `witness_naive` and parts of `forcible_layers`, then its survivors
-again after `tests/test_forcibility_bfa.py` and `tests/test_witness_env_choice.py`; the
-rest is *not checked*. *validator*: a first run with `tests/test_safety.py` and
-`tests/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
+again after `tests/synthesis/test_forcibility_bfa.py` and `tests/synthesis/test_witness_env_choice.py`; the
+rest is *not checked*. *validator*: a first run with `tests/cli/test_safety.py` and
+`tests/problems/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
 `test_sigint_at_any_time_is_one_line_and_exit_130` fails (exit 0 instead of 130, like the
 study run's interruption test), so mutmut could not collect its statistics; the run kept
-uses `tests/test_validate.py` alone, 720 s (two workers), then `_ids`' survivors again with
-`tests/test_validate_messages.py`; and reached the oracle's
+uses `tests/problems/test_validate.py` alone, 720 s (two workers), then `_ids`' survivors again with
+`tests/problems/test_validate_messages.py`; and reached the oracle's
 `hex_bases_by_angle` (an oracle: its survivors are all equivalent) and the first helpers of
 `validate_plan` (`_check_events`, `_check_angles_match`, `_step_delta`, `_angles_off`,
 `_ids`, `_wrapping`), whose survivors are kept as survivors: no test of `test_validate.py`

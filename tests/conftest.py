@@ -1,12 +1,34 @@
+"""Shared test set-up: the helper modules on ``sys.path``, hypothesis' profiles and the
+``bdd_backend`` fixture.
+
+Tests live in folders named like the packages they test (``tests/planning``, ``tests/synthesis``,
+...); the helpers they share (``oracle``, ``routes``, ``strategies``, ``backends``) live in
+``tests/helpers`` and are imported by their plain names (``from strategies import ...``), as the
+suite runs with ``--import-mode=importlib``.
+"""
+
 import os
 import sys
 
+import pytest
 from hypothesis import HealthCheck, settings
 
-sys.path.insert(0, os.path.dirname(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "helpers"))
 
 settings.register_profile(
     "default", max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
 )
 settings.register_profile("quick", max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
+
+#: the BDD backends of ``dd`` that supcoord runs on: CUDD (C) and the pure-Python ``autoref``; both
+#: come with ``dd``, so a missing one fails the tests that use it instead of skipping them
+BDD_BACKENDS = ("cudd", "autoref")
+
+
+@pytest.fixture(scope="session", params=BDD_BACKENDS)
+def bdd_backend(request) -> str:
+    """Each BDD backend's name in turn, for ``Context(bdd_backend)``: a test that asks for this
+    fixture runs once per backend (as ``dd``'s own backend-neutral tests do).  Session-scoped,
+    so hypothesis' ``@given`` tests may use it too."""
+    return request.param

@@ -29,7 +29,7 @@ False
 The public names (everything in ``__all__``) are imported lazily on first use, so
 ``import supcoord`` itself loads neither the BDD package nor matplotlib.  ``_LAZY``
 below is their one source (name -> module); this table and the ``TYPE_CHECKING``
-imports at the end are checked against it by ``tests/test_public_api_source.py``.
+imports at the end are checked against it by ``tests/architecture/test_public_api_source.py``.
 
 =================  ==========================================================
 group              names

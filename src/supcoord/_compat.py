@@ -55,7 +55,7 @@ MOVED: dict[str, str] = {
     "positioners.planner_schedule": "planning.schedule",
     "positioners.planner_improve": "planning.improve",
     "positioners.planner_optimal": "planning.optimum",
-    "positioners.search_naive": "testing.search",
+    "positioners.search_naive": "testing.explicit_search",
     "positioners.figures": "figures.problem_figures",
     "positioners.figures_plan": "figures.plan_figures",
 }

@@ -25,7 +25,7 @@ sample collides (a proven collision), every bound clears ``bsum`` (proven free),
 ``L·(t1 − t0)/2 ≤ tol`` (counted as colliding: conservative by at most ``tol`` mm).  The
 verdict is that of the whole refinement tree, so it does not depend on the order in
 which intervals are split: this depth-first search gives the vectorised breadth-first
-one's verdicts, up to floating-point rounding of the distances (``tests/test_chain_motion.py``).
+one's verdicts, up to floating-point rounding of the distances (``tests/geometry/test_chain_motion.py``).
 
 References
 ----------

@@ -14,7 +14,7 @@ its forward move from the end pose (:meth:`.Kinematics.reversed_moves`), a move 
 hard stop blocked, the end-point distances (``a``'s segment first, as
 :func:`.collision.distance_table` has them) settling what they can, the exact closed form
 (:func:`.sweep.rotation_clearance`) the rest, then the unary tables folded in.  So the
-Booleans are the table's (``tests/test_sweep.py`` compares every entry).
+Booleans are the table's (``tests/geometry/test_sweep.py`` compares every entry).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ is ``G = G_1 || … || G_N`` and the specification ``E = E_1 || … || E_N`` wit
 ``E_i = allevents(G_i) || S_i`` over ``Σ_i`` (pairwise disjoint), so the product
 ``P = G × E`` is ``P_1 × … × P_N``.  Two facts make ``N`` small computations replace one
 big one (both proven here and tested against the generic algorithms in
-``tests/test_paper.py``):
+``tests/paper/test_paper.py``):
 
 **Theorem 1 (supcon).** Let ``Z_i`` be the state set of ``supcon(G_i, E_i)`` (the
 greatest ``Z ⊆ Reach(P_i) \\ B0_i`` that is coreachable to ``Qm_i`` inside ``Z`` and
@@ -231,7 +231,7 @@ def literal_modular(inst: PaperInstance, ctx: Context | None = None, semantics: 
     computing each distinct positioner once (``N`` = thousands in seconds).
 
     The supervisor is the generator the generic :func:`supcon` returns (Theorem 1;
-    ``tests/test_paper.py`` compares the two), with exact statistics from the
+    ``tests/paper/test_paper.py`` compares the two), with exact statistics from the
     components' (``|V| = ∏ |V_i|``, ``|δ_V| = Σ_i |δ_{V_i}| ∏_{j≠i} |V_j|``).  The CCC
     verdict is exact when negative (Theorem 2; ``ccc.stats["certificate"]`` names the
     positioner) and otherwise comes from the generic :func:`ccc` on the product (``full``

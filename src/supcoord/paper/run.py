@@ -22,8 +22,8 @@ synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes (th
   only up to :data:`AUTO_COUNT_COUPLED` positioners unless asked for.
 
 The modular and monolithic routes return the same supervisor (same state-set BDD;
-``tests/test_paper.py``); the settled and monolithic routes the same CCC answer
-(``tests/test_settled.py``).
+``tests/paper/test_paper.py``); the settled and monolithic routes the same CCC answer
+(``tests/paper/test_settled.py``).
 :func:`run_paper` returns a :class:`PaperRun` (typed: what was built, ``V``'s sizes, the
 verdict, the timings) that also keeps the generators and results for a notebook;
 :meth:`PaperRun.to_json` makes the JSON object of ``supcoord paper --json``

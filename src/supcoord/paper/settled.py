@@ -33,7 +33,7 @@ inside supcon's greatest fixpoint, where ``V`` keeps every transition between wi
 states, and ``V``'s layers are ``G``'s.  The condition on the target is needed: where a
 collision event is pending at ``T``, supcon also removes ``T`` when that event leads
 to a blocking state, and ``V`` may be empty where ``G`` wins (found by
-``tests/test_settled.py``'s random instances); such instances take the monolithic
+``tests/paper/test_settled.py``'s random instances); such instances take the monolithic
 route.
 
 The settled states are encoded symbolically by :mod:`.settled_graph` (positions and one

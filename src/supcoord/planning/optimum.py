@@ -17,7 +17,7 @@ and each ``x_p`` quantified as soon as no remaining conjunct reads it (early
 quantification).  Every plan the planner returns is a path of ``T`` (its steps pass
 the validator), so ``makespan* ≤`` its makespan: the yardstick of
 ``benchmarks/bench_makespan.py`` on grids too large for the explicit twin
-(:func:`supcoord.testing.search.optimal_makespan_naive`, which it equals on small cases).
+(:func:`supcoord.testing.explicit_search.optimal_makespan_naive`, which it equals on small cases).
 
 References
 ----------

@@ -52,7 +52,7 @@ __all__ = [
 #: the marker of a parameter without default
 REQUIRED = object()
 #: :data:`supcoord.des.families.FAMILIES` (kept here so that reading a study imports no BDD package;
-#: ``tests/test_study_spec.py`` checks they agree)
+#: ``tests/study/test_study_spec.py`` checks they agree)
 FAMILY_NAMES = ("dining_philosophers", "small_factories", "coupled_factories", "transfer_line_chain", "machine_line")
 #: :data:`supcoord.synthesis.reachability.METHODS` (checked the same way)
 SUPCON_METHODS = ("bfs", "chaining", "saturation")

@@ -1,4 +1,4 @@
-"""Mutations of input files for fuzzing the readers (tests/test_fuzz.py, benchmarks/fuzz_campaign.py).
+"""Mutations of input files for fuzzing the readers (tests/cli/test_fuzz.py, benchmarks/fuzz_campaign.py).
 
 Every mutator takes the bytes of a valid file and a seeded :class:`random.Random` and
 returns hostile bytes, so a failing case is reproduced from its seed alone:

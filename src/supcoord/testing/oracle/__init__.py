@@ -5,7 +5,7 @@ Everything the planner's answers rest on is written again here, on purpose, from
 segment distance (the origin against a Minkowski difference, :mod:`.distance`), the
 true reach (elbow included), a **certified** swept check (branch and bound on ``t``
 with a Lipschitz bound, three-valued: free, collides, undecided to 10⁻⁹ mm —
-:mod:`.sweep`), three-valued pair tables (:mod:`.tables`) and a breadth-first search
+:mod:`.certified_sweep`), three-valued pair tables (:mod:`.tables`) and a breadth-first search
 over joint configurations (:mod:`.bfs`) for the single-move and the simultaneous
 semantics.  It imports none of :mod:`supcoord.geometry`, :mod:`supcoord.planning`,
 :mod:`supcoord.problems` — only numpy and :mod:`supcoord.errors` — so that "the planner
@@ -14,7 +14,7 @@ agrees with the oracle" checks the geometry, not a model against its own encodin
 Input: a problem's JSON (``Problem.to_json()``, or as written: starts and targets as
 indices, ``alpha_beta_deg`` or ``xy_mm``; ``alpha_range``; ``collision.margin``); each
 robot then moves on its own lattice holding its exact start and target angles
-(:func:`.model.exact_lattice`); entry points in :mod:`.api`.
+(:func:`.oracle_model.exact_lattice`); entry points in :mod:`.api`.
 
 >>> p = {"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
 ...      "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
@@ -40,8 +40,8 @@ from .api import (
     oracle_solve,
 )
 from .bfs import MAX_CONFIGURATIONS, OracleUndecided
-from .model import OracleInputError
-from .sweep import FREE, HIT, UNDECIDED
+from .oracle_model import OracleInputError
+from .certified_sweep import FREE, HIT, UNDECIDED
 
 __all__ = [
     "FREE",

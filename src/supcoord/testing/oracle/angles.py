@@ -13,7 +13,7 @@ with :mod:`supcoord.problems` or :mod:`supcoord.geometry`:
 
 Every robot then gets its own lattice per joint (:func:`exact_lattice`) holding its start
 and target angles exactly; its start and target are those slots
-(:meth:`.model.OracleProblem.from_json`).
+(:meth:`.oracle_model.OracleProblem.from_json`).
 """
 
 from __future__ import annotations

@@ -32,7 +32,7 @@ import numpy as np
 
 from .bfs import Space
 from .distance import segment_gap
-from .model import Arm, OracleProblem
+from .oracle_model import Arm, OracleProblem
 from .tables import PairTables
 
 __all__ = [

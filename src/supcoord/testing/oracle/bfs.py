@@ -17,7 +17,7 @@ Configurations are mixed-radix integers ``Σ_p c_p·n^{k−1−p}`` (``n`` posit
 member, ``k`` members); the search is level by level over numpy frontiers (Moore's BFS),
 refusing more than :data:`MAX_CONFIGURATIONS` configurations.
 
-**Undecided entries** (:data:`.sweep.UNDECIDED`) are never given a side.  The search runs
+**Undecided entries** (:data:`.certified_sweep.UNDECIDED`) are never given a side.  The search runs
 with them blocked; if it read one, it runs again with them free.  Distances only shrink
 and reachable sets only grow as edges are added, so the true graph lies between the two:
 equal answers are the exact answer (and a path of the first run uses decided edges
@@ -35,8 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import OracleInputError, OracleProblem
-from .sweep import FREE, TIE, UNDECIDED
+from .oracle_model import OracleInputError, OracleProblem
+from .certified_sweep import FREE, TIE, UNDECIDED
 from .tables import PairTables, joint_options
 
 __all__ = ["MAX_CONFIGURATIONS", "MAX_STEP_KINDS", "OracleUndecided", "Outcome", "Space"]

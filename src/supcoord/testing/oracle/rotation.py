@@ -18,8 +18,8 @@ If the segments meet at some ``t``, they do so at ``t = 0`` or first where an en
 touches the other (a proper crossing persists under small motions), which is one of
 the points above.  So ``min_t d(t)`` is the least of ``d`` at these **critical times**
 (at most 26 per motion), each evaluated with the arm's own formula at ``q + t·δ``
-(:meth:`.model.Arm.segment`), so that ``t = 0`` and ``t = 1`` give exactly the static
-distances.  This decides the ties the branch and bound of :mod:`.sweep` cannot: a
+(:meth:`.oracle_model.Arm.segment`), so that ``t = 0`` and ``t = 1`` give exactly the static
+distances.  This decides the ties the branch and bound of :mod:`.certified_sweep` cannot: a
 motion whose least distance is *exactly* ``r`` — a flat stretch (an arm turning about
 its own base, at ``r`` from a static point) or a tangency at a grid position — is free.
 

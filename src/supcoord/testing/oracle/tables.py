@@ -3,10 +3,10 @@
 For positioners ``a`` (base ``x_a``, arm ``A``) and ``b`` (base ``x_b``, arm ``B``: the same
 arm, or each its own lattice), write ``o = x_b − x_a`` and ``r = r_a + r_b (+ margin)``;
 ``S_a(q)``, ``S_b(q)`` are the colliding segments relative to the bases
-(:class:`.model.Arm`).  Everything is computed in ``a``'s frame:
+(:class:`.oracle_model.Arm`).  Everything is computed in ``a``'s frame:
 
 - **static** ``T[i, j] = dist(S_a(i), o + S_b(j)) < r`` (plain evaluation, no motion; a
-  distance within :data:`.sweep.TIE` of ``r`` is a tie, :meth:`PairTables.static_state`);
+  distance within :data:`.certified_sweep.TIE` of ``r`` is a tie, :meth:`PairTables.static_state`);
 - **edges** of the single-move semantics: ``E[side][k][i, j]`` — the mover (``a`` when
   ``side = 0``, moving from ``i``; ``b`` when ``side = 1``, moving from ``j``) turns joint
   ``k`` by ``+1`` while the other stands still.  The move ``−1`` from ``i'`` traces the
@@ -15,7 +15,7 @@ arm, or each its own lattice), write ``o = x_b − x_a`` and ``r = r_a + r_b (+ 
 - **simultaneous** ``M[u, v, i, j]``: ``a`` moves by the joint deltas ``opts[u]`` from ``i``
   while ``b`` moves by ``opts[v]`` from ``j`` (both linear in joint space, one time ``t``).
 
-Swept entries are ``FREE``, ``HIT`` or ``UNDECIDED`` (:func:`.sweep.certify`, seeded with
+Swept entries are ``FREE``, ``HIT`` or ``UNDECIDED`` (:func:`.certified_sweep.certify`, seeded with
 the static distances at both ends).  An entry the branch and bound leaves undecided
 whose motion is one joint of one positioner (a rigid turn) is then decided at its
 critical times (:mod:`.rotation`), unless that least distance is a tie.  What stays
@@ -30,9 +30,9 @@ from __future__ import annotations
 import numpy as np
 
 from .distance import segment_gap
-from .model import Arm
+from .oracle_model import Arm
 from .rotation import critical_times
-from .sweep import HIT, TIE, UNDECIDED, certify, classify
+from .certified_sweep import HIT, TIE, UNDECIDED, certify, classify
 
 __all__ = ["PairTables", "joint_options"]
 

@@ -1,0 +1,109 @@
+"""Every shipped example runs clean, as a user would run it.
+
+- every problem in ``docs/examples/`` (``*.json``): ``supcoord solve`` then ``supcoord
+  check`` on the plan it wrote;
+- every study in ``docs/examples/`` (``*.toml``): ``supcoord study run`` into a fresh
+  database;
+- every study in ``benchmarks/studies/`` at its smallest: the parsed study keeps, of
+  each series (a kind with its model, route, family …), the case of the smallest size
+  and seed, so every kind and route it declares runs once (a case with the same
+  parameters as one an earlier study of this module ran, as ``scaling.toml`` shares
+  ``readme.toml``'s, is not run twice).
+
+A crashed case, a case whose parameters the library refuses (``error``), a non-zero
+exit, a traceback or a warning fails the test.  Files are found by globbing, so a new
+example is covered without touching this file.  (The notebooks: ``test_notebooks.py``.)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PROBLEMS = sorted((ROOT / "docs" / "examples").glob("*.json"))
+STUDIES = sorted((ROOT / "docs" / "examples").glob("*.toml"))
+BENCHMARK_STUDIES = sorted((ROOT / "benchmarks" / "studies").glob("*.toml"))
+#: what a clean run never prints on standard error
+NOISE = ("Traceback", "Warning", "warning:", "Exception ignored")
+
+
+def supcoord(*argv, cwd: Path, timeout: float = 240) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "supcoord.cli", *map(str, argv)], capture_output=True, text=True,
+                          cwd=cwd, timeout=timeout)
+
+
+def clean(proc: subprocess.CompletedProcess) -> None:
+    noise = [word for word in NOISE if word in proc.stderr]
+    assert proc.returncode == 0 and not noise, f"exit {proc.returncode}, {noise}:\n{proc.stderr[-3000:]}"
+
+
+def test_the_examples_are_found():
+    assert PROBLEMS and STUDIES and BENCHMARK_STUDIES
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(240)
+@pytest.mark.parametrize("path", PROBLEMS, ids=lambda p: p.name)
+def test_a_problem_solves_and_its_plan_checks(path, tmp_path):
+    solved = supcoord("solve", path, "--out", tmp_path / "plan.json", "--json", cwd=tmp_path)
+    clean(solved)
+    plan = json.loads(solved.stdout)
+    assert plan["status"] in ("complete", "partial", "infeasible"), plan.get("reason")
+    if plan["status"] == "infeasible":
+        assert plan["reason"]
+        return
+    checked = supcoord("check", path, tmp_path / "plan.json", "--json", cwd=tmp_path)
+    clean(checked)
+    result = json.loads(checked.stdout)
+    assert result["valid"] is True
+    if path.suffix == ".json" and plan["status"] == "complete":
+        assert result["at_target"] == len(plan["configurations"][0])
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(240)
+@pytest.mark.parametrize("path", STUDIES, ids=lambda p: p.name)
+def test_a_shipped_study_runs_without_a_crash(path, tmp_path):
+    ran = supcoord("study", "run", path, "--db", tmp_path / "r.sqlite", "--json", cwd=tmp_path)
+    clean(ran)
+    summary = json.loads(ran.stdout)
+    assert summary["ran"] == summary["total"] and set(summary["statuses"]) == {"ok"}, summary
+
+
+def smallest(study):
+    """The study with one case per series: the smallest size, then the smallest seed."""
+    best = {}
+    for case in study.cases:
+        rank = (case.size or 0, case.params.get("seed") or 0, case.block)
+        if case.series not in best or rank < best[case.series][0]:
+            best[case.series] = (rank, case)
+    return dataclasses.replace(study, cases=[case for _, case in best.values()])
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("path", BENCHMARK_STUDIES, ids=lambda p: p.name)
+def test_a_benchmark_study_runs_at_its_smallest(path, tmp_path):
+    from supcoord.study import load_study, results_rows, run_study
+
+    study = load_study(path)
+    small = smallest(study)
+    kinds = {(c.kind, c.params.get("route"), c.params.get("model")) for c in study.cases}
+    assert {(c.kind, c.params.get("route"), c.params.get("model")) for c in small.cases} == kinds
+    todo = dataclasses.replace(small, cases=[c for c in small.cases if c.params_key not in _RAN])
+    lines: list[str] = []
+    summary = run_study(todo, tmp_path / "r.sqlite", workers=0, progress=lines.append)
+    rows = results_rows(tmp_path / "r.sqlite") if todo.cases else []
+    _RAN.update(c.params_key for c in todo.cases)
+    bad = [(r["series"], r["status"], r["message"]) for r in rows if r["status"] in ("crashed", "error", "lost")]
+    assert not bad and summary.ran == len(todo.cases), "\n".join(lines)
+
+
+#: parameters of the benchmark cases this module has run (studies share cases)
+_RAN: set[str] = set()
