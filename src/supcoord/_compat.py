@@ -63,7 +63,7 @@ MOVED: dict[str, str] = {
 #: names of an old module that now live elsewhere than its main new home (looked up in order)
 ALSO: dict[str, tuple[str, ...]] = {
     "positioners.presets": ("problems.presets",),
-    "positioners.planner": ("planning.layers",),
+    "positioners.planner": ("planning.move_layers",),
     "positioners.figures": ("figures.plan_figures",),
     "positioners.coordination": ("planning.guards", "planning.graph_order"),
     "positioners.planner_forward": ("bdd.context",),

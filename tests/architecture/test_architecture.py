@@ -215,3 +215,14 @@ def test_the_geometric_oracle_shares_no_code_with_what_it_checks():
     for name in oracle:
         outside = {m for m in _imports(name) if not m.startswith("supcoord.testing.oracle")}
         assert outside <= {"supcoord.errors"}, (name, sorted(outside))
+
+
+def test_no_two_modules_share_a_name():
+    """A module's name says which one it is: ``planning.move_layers`` and
+    ``synthesis.layers``, not two ``layers``."""
+    by_name: dict[str, list[str]] = {}
+    for module in MODULES:
+        by_name.setdefault(module.rsplit(".", 1)[-1], []).append(module)
+    packages = {m for m in MODULES if any(other.startswith(m + ".") for other in MODULES)}
+    repeated = {name: mods for name, mods in by_name.items() if len(mods) > 1 and not set(mods) <= packages}
+    assert not repeated, repeated

@@ -182,7 +182,7 @@ def test_a_large_plan_gets_one_overview_with_a_timeline(tmp_path, monkeypatch):
     import matplotlib.figure
 
     from supcoord.figures.plan_figures import save_plan_figure
-    from supcoord.figures.wok import OVERVIEW_ABOVE
+    from supcoord.figures.wok_overview import OVERVIEW_ABOVE
 
     seen = []
     original = matplotlib.figure.Figure.savefig

@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from supcoord.errors import InputError
-from supcoord.paper.routes import MODELS, PAPER_ROUTES, ROUTES, SEMANTICS, default_route, paper_route, route_rule
+from supcoord.paper.paper_routes import MODELS, PAPER_ROUTES, ROUTES, SEMANTICS, default_route, paper_route, route_rule
 from supcoord.study.case_run import Measurement
 from supcoord.study.kinds import check_params
 

@@ -15,7 +15,7 @@ import pytest
 from supcoord.bdd.context import Budget
 from supcoord.errors import BudgetExceeded, InputError
 from supcoord.planning.graph_order import conflict_components
-from supcoord.planning.layers import move_layers, witness_moves
+from supcoord.planning.move_layers import move_layers, witness_moves
 from supcoord.planning.model import CoordinationModel
 from supcoord.planning.planner import solve, solve_window
 from supcoord.planning.routes import Local, Monolithic
@@ -198,7 +198,7 @@ from supcoord.errors import SupcoordError
 from supcoord.planning.descent import descent
 from supcoord.planning.graph_order import cutwidth_order
 from supcoord.planning.guards import blocked_table, conflict_graph
-from supcoord.planning.layers import MoveLayers
+from supcoord.planning.move_layers import MoveLayers
 from supcoord.planning.schedule import timeline_schedule
 from supcoord.planning.search import blockers, search, witness_layers
 from supcoord.planning.windows import LEVELS, path_blockers

@@ -122,7 +122,7 @@ def test_run_paper_coupled_decides_without_the_reachable_set(size, seed, monkeyp
     """The coupled route synthesizes V without Reach and runs CCC on it: the verdict,
     rank and witness of the trim supervisor; its sizes are counted up to
     AUTO_COUNT_COUPLED positioners (or on request) and equal the trim supervisor's."""
-    import supcoord.paper.routes as routes
+    import supcoord.paper.paper_routes as routes
 
     counted = run_paper(size, 6, model="coupled", seed=seed, route="monolithic")
     trim = _results(_model(size, 6, seed), "auto")

@@ -6,7 +6,7 @@ this package imports matplotlib.
 """
 
 from .plan_figures import interpolate_plan, save_incidents_figure, save_plan_figure, save_plan_gif, save_plan_strip
-from .wok import plan_title, save_plan_overview
+from .wok_overview import plan_title, save_plan_overview
 from .problem_figures import (
     add_legend,
     arms,

@@ -47,7 +47,7 @@ from .problem_figures import (
     plt,
     save_figure,
 )
-from .wok import OVERVIEW_ABOVE, plan_title, save_plan_overview
+from .wok_overview import OVERVIEW_ABOVE, plan_title, save_plan_overview
 
 __all__ = ["interpolate_plan", "save_plan_strip", "save_plan_gif", "save_incidents_figure", "save_plan_figure",
            "MAX_GIF_FRAMES"]

@@ -8,7 +8,7 @@ modular route in :mod:`.modular` that scales linearly) and :mod:`.coupled` (coll
 events driven by the arms' geometry, whose CCC :mod:`.settled` answers on its settled
 states without building ``V``); :mod:`.events` numbers the events as Table 1.
 :mod:`.run` runs either at a given size; :mod:`.demo` reproduces the paper's
-three-positioner example end to end; :mod:`.routes` is the table of routes.  The names
+three-positioner example end to end; :mod:`.paper_routes` is the table of routes.  The names
 below are imported on first use.
 """
 
@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from .run import PaperRun, run_paper, solve_paper
     from .settled import settled_ccc
 
-#: public name -> its module; imported on first use, so that :mod:`.routes` (which the study
+#: public name -> its module; imported on first use, so that :mod:`.paper_routes` (which the study
 #: reads) loads no BDD package
 _HOMES = {
     "CoupledModel": "coupled", "Geometry": "coupled", "coupled_models": "coupled",

@@ -3,7 +3,7 @@
 :func:`run_paper` builds ``G = ||_i G^{P_i}`` and ``E = allevents(G) || S`` for an
 instance (seeded random starts and targets on the hex grid, or one you give),
 synthesizes ``V = supcon(G, E)`` and runs ``CCC(V)``, by one of three routes (the table
-:data:`~supcoord.paper.routes.PAPER_ROUTES` says which runs which model):
+:data:`~supcoord.paper.paper_routes.PAPER_ROUTES` says which runs which model):
 
 - ``modular`` (literal model only, the default there): exact by Theorems 1 and 2 of
   :mod:`.modular` — each distinct positioner is solved once in a small context,
@@ -59,7 +59,7 @@ from ..synthesis import CCCResult, SupconResult
 from ..progress import summary_html, summary_repr
 from .coupled import CoupledModel, Geometry
 from .literal import PaperInstance, hex_neighbours, hex_sites, random_instance
-from .routes import (AUTO_COUNT_COUPLED, AUTO_COUNT_EVENTS, MODELS, ROUTES, RouteOptions, RouteResult, default_route,
+from .paper_routes import (AUTO_COUNT_COUPLED, AUTO_COUNT_EVENTS, MODELS, ROUTES, RouteOptions, RouteResult, default_route,
                      paper_route)
 from .settled import target_in_zone
 
@@ -330,7 +330,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     """Build, synthesize and check the seed paper's model for ``positioners`` positioners.
 
     Builds ``G`` and ``E = allevents(G) || S`` for a seeded random instance on the hex grid (or
-    ``instance``), then ``V = supcon(G, E)`` and ``CCC(V)`` by a route of :data:`.routes.PAPER_ROUTES`.
+    ``instance``), then ``V = supcon(G, E)`` and ``CCC(V)`` by a route of :data:`.paper_routes.PAPER_ROUTES`.
 
     Parameters
     ----------
@@ -347,7 +347,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     ctx : Context, optional
         The BDD context; with a budget (nodes, seconds) the run stops when it runs out.
     route : {"modular", "monolithic", "settled"}, optional
-        None: :func:`~supcoord.paper.routes.default_route` (the coupled model takes the monolithic
+        None: :func:`~supcoord.paper.paper_routes.default_route` (the coupled model takes the monolithic
         route for an instance whose target has an arm in another's safety zone).
     instance : PaperInstance, optional
         Starts, targets, priorities and neighbours instead of the seeded random ones.

@@ -40,7 +40,7 @@ from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from .improve import improve_plan
-from .layers import MoveLayers, move_layers, witness_moves  # noqa: F401  (old import path: positioners.planner)
+from .move_layers import MoveLayers, move_layers, witness_moves  # noqa: F401  (old import path: positioners.planner)
 from .model import CoordinationModel
 from .routes import (ROUTES, SIMULTANEOUS_JOINTS, SIMULTANEOUS_NODES, SIMULTANEOUS_TABLE,  # noqa: F401
                      FinerLattice, Local, Monolithic, Route, RouteResult, Simultaneous, SimultaneousResult,

@@ -44,7 +44,7 @@ from ..problems.problem import Problem
 from ..synthesis.supcon import supcon
 from .descent import descent
 from .guards import conflict_graph
-from .layers import move_layers, witness_moves
+from .move_layers import move_layers, witness_moves
 from .model import CoordinationModel
 from .search import search, shortest_moves
 from .solve_stats import DescentShort, MonolithicStats, SolveStats, WindowStats

@@ -78,7 +78,7 @@ import numpy as np
 from ..bdd.context import BDD, ThrottledCheck
 from ..errors import BudgetExceeded, ModelError
 from ..problems.plan import Move
-from .layers import MoveLayers, witness_moves
+from .move_layers import MoveLayers, witness_moves
 from .model import GuardedSystem
 
 __all__ = ["Search", "WindowBudget", "search", "witness_layers", "shortest_moves", "blockers", "image", "MODES"]

@@ -6,7 +6,7 @@ in).  The kinds mirror the command line:
 - ``paper``: the seed paper's model (:func:`supcoord.paper.run.run_paper`, ``supcoord
   paper``): ``positioners``, ``steps``, ``model``, ``route``, ``seed``, ``semantics``,
   ``count_transitions``; the routes and the rules of which model and semantics each
-  takes are those of :data:`supcoord.paper.routes.PAPER_ROUTES`;
+  takes are those of :data:`supcoord.paper.paper_routes.PAPER_ROUTES`;
 - ``solve``: geometric coordination (:func:`supcoord.planning.planner.solve`, ``supcoord
   solve``) of a problem that is ``"random"`` (:func:`supcoord.problems.random.random_problem`:
   ``layout``, ``rings``, ``kinematics``, ``buffer``, ``seed``, ``priority``), ``"preset"``
@@ -36,7 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..paper.routes import MODELS, ROUTES, SEMANTICS, default_route, route_rule
+from ..paper.paper_routes import MODELS, ROUTES, SEMANTICS, default_route, route_rule
 
 __all__ = [
     "FAMILY_NAMES",
@@ -181,7 +181,7 @@ def _check_combination(kind: str, p: dict[str, Any], where: str, base: Path | No
     if kind == "paper":
         if p["route"] is None:
             p["route"] = default_route(p["model"], p["semantics"])
-        rule = route_rule(p["model"], p["route"], p["semantics"])  # the table of supcoord.paper.routes
+        rule = route_rule(p["model"], p["route"], p["semantics"])  # the table of supcoord.paper.paper_routes
         if rule is not None:
             fail("route", f"{rule}; use route = 'monolithic'")
     elif kind == "solve":
