@@ -136,23 +136,6 @@ def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
     return own
 
 
-def _bases(problem: Problem, problems: list[str]) -> np.ndarray:
-    """The bases to check against: rebuilt from a hex layout's numbers, else the given points."""
-    layout = problem.layout
-    if layout.get("kind") != "hex":
-        return np.asarray(layout.get("xy", problem.bases), float).reshape(-1, 2)
-    own = hex_bases_by_angle(int(layout["rings"]), float(layout["pitch"]))
-    if own.shape != problem.bases.shape:
-        problems.append(f"layout: {len(problem.bases)} bases, but a hex grid of {layout['rings']} rings has {len(own)}")
-        return problem.bases
-    off = np.nonzero(np.hypot(*(own - problem.bases).T) > 1e-6 * max(1.0, float(layout["pitch"])))[0]
-    if len(off):
-        i = int(off[0])
-        problems.append(f"layout: base of positioner {i} is {problem.bases[i].round(4).tolist()} but the hex "
-                        f"ordering of formats.md puts it at {own[i].round(4).tolist()} ({len(off)} bases differ)")
-    return own
-
-
 _EVENT = re.compile(r"(va|wa|vb|wb|v|w)(\d+)")
 _JOINT = {"rotary": {"v": (0, 1), "w": (0, -1)},
           "alpha-beta": {"va": (0, 1), "wa": (0, -1), "vb": (1, 1), "wb": (1, -1)}}
