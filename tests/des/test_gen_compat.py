@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from oracle import to_faudes
 
 from supcoord.des.io.gen_file import read_gen, read_gen_flat
-from supcoord.des.io.gen_parser import parse_text
+from supcoord.des.io.gen_parser import parse_text_by_token
 from supcoord.errors import FormatError, NondeterminismError
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "gen"
@@ -246,7 +246,7 @@ def test_random_layouts_read_as_libfaudes_reads_them(tmp_path_factory, case):
         ours, error = None, exc
     # the token-by-token reading and the column-at-a-time one agree
     try:
-        slow = parse_text(text, str(path), fast=False).to_generator()
+        slow = parse_text_by_token(text, str(path)).to_generator()
     except (FormatError, NondeterminismError) as exc:
         assert error is not None and str(exc) == str(error)
     else:
@@ -283,6 +283,6 @@ def test_large_files_take_the_column_reading_and_agree_with_the_token_reading(tm
     path = tmp_path / "big.gen"
     s.Write(str(path))
     text = path.read_text(encoding="latin-1")
-    fast, slow = read_gen_flat(path), parse_text(text, str(path), fast=False)
+    fast, slow = read_gen_flat(path), parse_text_by_token(text, str(path))
     assert fast.state_names == slow.state_names and fast.to_generator().same_as(slow.to_generator())
     agree(fast.to_generator(), faudes.System(str(path)))

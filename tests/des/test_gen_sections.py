@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 from supcoord.des.io.gen_file import read_gen
-from supcoord.des.io.gen_parser import parse_text
+from supcoord.des.io.gen_parser import parse_text_by_token
 from supcoord.errors import FormatError, NondeterminismError
 
 NAMES = ["idle", "busy", "s3", "q_1", "far", "home", "x.y", "up"]
@@ -162,7 +162,7 @@ def test_every_section_form_reads_as_libfaudes_reads_it(tmp_path_factory, case):
     want = _theirs(theirs)
     event("read alike" + (", with ranges in a state set" if case[1] else ""))
     assert _ours(ours) == want, text
-    slow = parse_text(text, str(path), fast=False).to_generator()  # the token-by-token reading
+    slow = parse_text_by_token(text, str(path)).to_generator()  # the token-by-token reading
     assert _ours(slow) == want, text
 
 
@@ -186,7 +186,7 @@ def test_state_set_refusals_name_the_file_line_and_token(tmp_path, marked, line,
     path.write_text(text)
     with pytest.raises(Exception):  # libFAUDES refuses it too
         faudes.Generator(str(path))
-    for read in (lambda: read_gen(path), lambda: parse_text(text, str(path), fast=False)):
+    for read in (lambda: read_gen(path), lambda: parse_text_by_token(text, str(path))):
         with pytest.raises(FormatError) as info:
             read()
         got = str(info.value)
@@ -203,7 +203,7 @@ def test_a_nondeterministic_transition_names_the_lines_of_both(tmp_path):
     path = tmp_path / "nd.gen"
     path.write_text(text)
     assert len(faudes.Generator(str(path)).ToLists()[-3]) == 4
-    for read in (lambda: read_gen(path), lambda: parse_text(text, str(path), fast=False)):
+    for read in (lambda: read_gen(path), lambda: parse_text_by_token(text, str(path))):
         with pytest.raises(NondeterminismError) as info:
             read()
         assert str(info.value) == f"{path}: line 8: state 1 has two transitions on 'a', to 2 (line 6) and to 3"

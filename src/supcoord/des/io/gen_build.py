@@ -77,6 +77,7 @@ class GenBuilder:
         self.x1, self.ev, self.x2 = array("q"), array("q"), array("q")  # transitions read one by one
         self.chunks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # ... and a column at a time
         self.trans_section: tuple[int, int] | None = None  # text span of <TransRel>, for error lines
+        self.trans_pos: list[int] = []  # text position of each XML <Transition>, for error lines
         self._lookup_cache: tuple[int, dict[str, int], dict[str, int]] | None = None  # (states, bare, names) of _lookups
         self.init: list[int] = []
         self.marked: list[int] = []

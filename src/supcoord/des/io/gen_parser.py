@@ -49,21 +49,39 @@ from ..flat import FlatGenerator
 from .gen_build import MAX_STATES, Fallback, GenBuilder, Introducing, bulk_state_set, bulk_states, bulk_transrel
 from .gen_tokens import Mark, Token, TokenReader, bare_kind
 
-__all__ = ["MAX_STATES", "parse_text"]
+__all__ = ["MAX_STATES", "parse_text", "parse_text_by_token"]
 
 _ORDER = "the native sections come in the order <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates>"
 
 
-def parse_text(text: str, where: str = "<string>", *, raw: bytes | None = None, fast: bool = True) -> FlatGenerator:
+class _Bulk:
+    """The column-at-a-time readers of :mod:`.gen_build` offered the large native sections
+    first; each declines (False or None) what it cannot decide, or raises :class:`Fallback`."""
+
+    states = staticmethod(bulk_states)
+    transrel = staticmethod(bulk_transrel)
+    state_set = staticmethod(bulk_state_set)
+
+
+def parse_text(text: str, where: str = "<string>", *, raw: bytes | None = None) -> FlatGenerator:
     """The generator of the first ``<Generator>`` section of libFAUDES token text
-    (``raw``: the same text as Latin-1 bytes, when at hand)."""
+    (``raw``: the same text as Latin-1 bytes, when at hand): the large native sections a
+    column at a time where :mod:`.gen_build` can, the rest (and everything, after a
+    :class:`Fallback`) as :func:`parse_text_by_token` reads it, with the same result."""
     try:
-        return _parse(text, where, raw, fast)
+        return _parse(text, where, raw, _Bulk())
     except Fallback:
-        return _parse(text, where, raw, False)
+        return _parse(text, where, raw, None)
 
 
-def _parse(text: str, where: str, raw: bytes | None, fast: bool) -> FlatGenerator:
+def parse_text_by_token(text: str, where: str = "<string>", *, raw: bytes | None = None) -> FlatGenerator:
+    """The generator of the first ``<Generator>`` section of libFAUDES token text, read token
+    by token only: the reference reading that :func:`parse_text` equals (and slower on
+    large sections)."""
+    return _parse(text, where, raw, None)
+
+
+def _parse(text: str, where: str, raw: bytes | None, bulk: _Bulk | None) -> FlatGenerator:
     r = TokenReader(text, where, raw)
     if not text or text.isspace():
         raise r.error(0, "empty file: expected <Generator>")
@@ -76,7 +94,7 @@ def _parse(text: str, where: str, raw: bytes | None, fast: bool) -> FlatGenerato
         name = r.get().name
     start = r.mark()
     b = GenBuilder(r)
-    broke = _native(r, b, fast)
+    broke = _native(r, b, bulk)
     if broke is not None:
         r.reset(start)
         b = GenBuilder(r)
@@ -99,25 +117,26 @@ def _parse(text: str, where: str, raw: bytes | None, fast: bool) -> FlatGenerato
 # -- native layout ----------------------------------------------------------------------
 
 
-def _native(r: TokenReader, b: GenBuilder, fast: bool) -> Token | None:
-    """Read the native sections; the token where ``<TransRel>`` was expected if absent."""
+def _native(r: TokenReader, b: GenBuilder, bulk: _Bulk | None) -> Token | None:
+    """Read the native sections (the large ones offered to ``bulk`` first, when given); the
+    token where ``<TransRel>`` was expected if absent."""
     if r.is_begin("Alphabet", "A"):
         _read_alphabet(r, b, r.peek().text)
     if r.is_begin("States", "S"):
         label = r.peek().text
-        if not (fast and bulk_states(r, b, label)):
+        if not (bulk and bulk.states(r, b, label)):
             _states(r, b, label)
     t = r.peek()
     if t is None:
         raise r.error(len(r.text), "missing </Generator>", "Generator")
     if not r.is_begin("TransRel", "T"):
         return t
-    if not (fast and bulk_transrel(r, b, t.text)):
+    if not (bulk and bulk.transrel(r, b, t.text)):
         _transrel(r, b, t.text)
     for labels, target in ((("InitStates", "I"), b.init), (("MarkedStates", "M"), b.marked)):
         if r.is_begin(*labels):
             label = r.peek().text
-            found = bulk_state_set(r, b, label) if fast else None
+            found = bulk.state_set(r, b, label) if bulk else None
             target.extend(found if found is not None else _state_set(r, b, label))
     return None
 
@@ -262,9 +281,10 @@ def _transrel(r: TokenReader, b: GenBuilder, label: str) -> None:
 
 
 def _locate(r: TokenReader, b: GenBuilder, k: int) -> int:
-    """The line of the ``k``-th transition of ``<TransRel>`` (for error messages)."""
+    """The line of the ``k``-th transition (for error messages): of ``<TransRel>``, or the
+    ``<Transition>`` element of the XML layout's ``<TransitionRelation>``."""
     if b.trans_section is None:
-        return 0
+        return r.line_at(b.trans_pos[k])
     s = TokenReader(r.text, r.where)
     s.pos = b.trans_section[0]
     for _ in range(k):
@@ -409,6 +429,7 @@ def _xml_transitions(r: TokenReader, b: GenBuilder) -> None:
         b.x1.append(ends[0])
         b.ev.append(ev)
         b.x2.append(ends[1])
+        b.trans_pos.append(t.pos)
     r.get()
 
 
