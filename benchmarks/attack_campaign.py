@@ -267,7 +267,7 @@ LIBRARY_CHILD = textwrap.dedent('''
     }
     for name, (field, value) in plans.items():
         calls[f"validate_plan, plan {name} (must not raise)"] = lambda f=field, v=value: (
-            None if supcoord.validate_plan(problem, bad_plan(f, v))["valid"] is False else 1 / 0)
+            None if supcoord.validate_plan(problem, bad_plan(f, v)).valid is False else 1 / 0)
     calls.update({
         "plan_from_moves, junk moves": lambda: supcoord.plan_from_moves(problem, [("x", 1, 2), None, 5]),
         "plan_from_moves, moves not a list": lambda: supcoord.plan_from_moves(problem, 5),

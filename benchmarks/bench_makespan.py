@@ -100,7 +100,7 @@ def run_grids(grids: list[tuple[str, dict, int, int]], timeout: float) -> list[d
                 opt, status = plan.makespan, "optimal by the lower bound (LB <= optimum <= plan)"
             else:
                 try:
-                    opt = optimal_makespan(p, budget=Budget(timeout=timeout))["makespan"]
+                    opt = optimal_makespan(p, budget=Budget(timeout=timeout)).makespan
                     status = "symbolic optimum"
                 except BudgetExceeded:
                     opt, status = None, f"optimum unknown after {timeout:g} s"

@@ -137,9 +137,9 @@ def run_case(seed: int) -> dict:
             row["single_moves"] = plan.stats["single_moves"]
             row["makespan"] = plan.makespan
             result = validate_plan(p, plan)
-            row["valid"] = bool(result["valid"])
-            if not result["valid"]:
-                problems.append(f"invalid plan: {result['problems'][:2]}")
+            row["valid"] = bool(result.valid)
+            if not result.valid:
+                problems.append(f"invalid plan: {result.problems[:2]}")
             if loose.distance is None:
                 problems.append("a plan, but the oracle has none")
                 row["verdict_disagrees"] = True

@@ -56,6 +56,7 @@ geometric problems :class:`Problem`, :func:`load_problem`, :func:`parse_problem`
                    :func:`random_problem`, :func:`preset_problem`,
                    :data:`PRESETS`, :class:`Plan`, :func:`load_plan`,
                    :func:`plan_from_moves`, :func:`validate_plan`,
+                   :class:`ValidationResult`,
                    :func:`solve` (a problem -> a validated plan or a
                    certificate of infeasibility)
 real woks          :func:`load_instrument`, :func:`folded_configuration`,
@@ -157,6 +158,7 @@ _LAZY: dict[str, str] = {
     "load_plan": "supcoord.problems.plan",
     "plan_from_moves": "supcoord.problems.plan",
     "validate_plan": "supcoord.problems.validate",
+    "ValidationResult": "supcoord.problems.validate",
     # real woks: starts and targets of problems on them
     "load_instrument": "supcoord.instruments",
     "folded_configuration": "supcoord.instruments",
@@ -274,7 +276,7 @@ if TYPE_CHECKING:  # static type checkers and IDEs see the real objects
     from .problems.presets import preset_problem
     from .problems.problem import Problem, load_problem, parse_problem
     from .problems.random import random_problem
-    from .problems.validate import validate_plan
+    from .problems.validate import ValidationResult, validate_plan
     from .progress import ProgressBar, ProgressLog, progress_bar
     from .synthesis.ccc import CCCResult, ccc
     from .synthesis.checks import is_controllable, is_nonblocking

@@ -462,7 +462,7 @@ from supcoord.planning.optimum import optimal_makespan
 def test_symbolic_optimal_makespan_equals_the_oracle(name, seed):
     p = _problem(name, seed)
     opt = oracle_optimal_makespan(p.to_json())
-    assert optimal_makespan(p)["makespan"] == opt
+    assert optimal_makespan(p).makespan == opt
     plan = solve(p)
     if opt is None:
         assert plan.status == "infeasible"
@@ -473,7 +473,7 @@ def test_symbolic_optimal_makespan_equals_the_oracle(name, seed):
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_grid_plans_are_never_shorter_than_the_optimum(seed):
     p = random_problem({"kind": "hex", "rings": 1, "pitch": 22.4}, ROT, 2.0, seed=seed)
-    opt = optimal_makespan(p)["makespan"]
+    opt = optimal_makespan(p).makespan
     plan = solve(p)
     assert opt is not None and opt <= plan.makespan
 
@@ -487,7 +487,7 @@ def test_improvement_keeps_plans_valid_and_never_longer(seed, kind):
     if plan.status != "complete":
         return
     confs, stats = improve_plan(p, plan.configurations)
-    assert len(confs) - 1 <= plan.makespan == stats["makespan_before"]
+    assert len(confs) - 1 <= plan.makespan == stats.makespan_before
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
     assert validate_plan(p, Plan("complete", confs))["valid"]
 
@@ -617,10 +617,10 @@ def test_improvement_regroups_with_the_neighbours_in_the_way(kind, seed, monkeyp
     from supcoord.planning import improve as improve_module
 
     p, plan, confs, stats = _improved_valid(kind, seed, from_start=True)
-    assert stats["improved_with_blockers"] >= 1
+    assert stats.improved_with_blockers >= 1
     monkeypatch.setattr(improve_module, "_blocker_groups", lambda r, blockers, tried: [])
     without, stats_without = improve_plan(p, plan.configurations)
-    assert stats_without["improved_with_blockers"] == 0 and len(confs) < len(without)
+    assert stats_without.improved_with_blockers == 0 and len(confs) < len(without)
 
 
 @pytest.mark.timeout(120)
@@ -634,11 +634,11 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
     from supcoord.problems.plan import lower_bound
 
     p, plan, confs, stats = _improved_valid(kind, seed)
-    assert stats["improved_with_pairs"] >= 1
+    assert stats.improved_with_pairs >= 1
     if (kind, seed) == ("rot", 9):  # down to the largest joint distance, where improvement stops
         assert len(confs) - 1 == lower_bound(p) == 6
         again, stats_again = improve_plan(p, confs)  # nothing left to gain: no work at all
-        assert len(again) == len(confs) and stats_again["replans"] == 0
+        assert len(again) == len(confs) and stats_again.replans == 0
         idle, _ = improve_plan(p, confs + [confs[-1]])  # one step above the bound: improved down to it
         assert len(idle) == len(confs)
     monkeypatch.setattr(_Replanner, "replan_pair", lambda self, r, q, horizon: False)

@@ -14,6 +14,7 @@ the figure draws the configurations of an index plan (of the others: start and t
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 from ..problems.plan import load_plan
 from ..errors import InputError, SupcoordError
@@ -112,21 +113,21 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if args.figure:
         from ..figures.plan_figures import save_plan_figure
 
-        drawn = dict(result, incidents=[i for i in result["incidents"] if len(i["positioners"]) == 2]
-                     if plan.configurations else [])
+        drawn = dataclasses.replace(result, incidents=[i for i in result.incidents if len(i["positioners"]) == 2]
+                                    if plan.configurations else [])
         with as_option("--figure"):
             save_plan_figure(problem, plan, args.figure, drawn, progress=console.progress)
-    verdict = "VALID" if result["valid"] else "INVALID"
-    lines = [f"{verdict}: {result['steps']} steps, {result['collisions']} collisions, "
-             f"{result['at_target']}/{problem.n} positioners at target"]
-    if "motion_time_s" in result:
-        lines.append(f"motion time: {result['motion_time_s']:.3f} s")
-    if result["min_clearance"] is not None:
-        lines.append(f"smallest clearance beyond the buffers: {result['min_clearance']:.3f} mm")
-    lines += [f"  - {p}" for p in result["problems"]]
+    verdict = "VALID" if result.valid else "INVALID"
+    lines = [f"{verdict}: {result.steps} steps, {result.collisions} collisions, "
+             f"{result.at_target}/{problem.n} positioners at target"]
+    if result.motion_time_s is not None:
+        lines.append(f"motion time: {result.motion_time_s:.3f} s")
+    if result.min_clearance is not None:
+        lines.append(f"smallest clearance beyond the buffers: {result.min_clearance:.3f} mm")
+    lines += [f"  - {p}" for p in result.problems]
     if args.figure:
         lines.append(f"figure written to {args.figure}")
-    return CommandResult(payload=result, text="\n".join(lines))
+    return CommandResult(payload=result.to_json(), text="\n".join(lines))
 
 
 def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 
@@ -32,6 +32,7 @@ from ..problems.consistency import check_plan, check_problem
 from ..problems.plan import Plan
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice
+from ..problems.validate import ValidationResult
 from .problem_figures import (
     COLORS,
     FIGURE_SUFFIXES,
@@ -200,14 +201,14 @@ def save_plan_gif(problem: Problem, plan: Plan, path: str | Path, substeps: int 
     return Path(path)
 
 
-def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], path: str | Path,
+def save_incidents_figure(problem: Problem, plan: Plan, result: ValidationResult, path: str | Path,
                           max_panels: int = 6, dpi: int = 110) -> Path:
     """One panel per collision incident of the validator's ``result`` (zoomed on the pair).
 
     At most ``max_panels``: the first incident of every colliding pair before repeats.
     """
     checked(problem, plan)
-    listed = list(result.get("incidents", []))
+    listed = list(result.incidents)
     # the first incident of each pair first (a pair often collides over several steps), then the rest
     seen: set[tuple[int, int]] = set()
     first = [i for i, inc in enumerate(listed)
@@ -215,7 +216,7 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], 
     order = first + [i for i in range(len(listed)) if i not in set(first)]
     incidents = [listed[i] for i in sorted(order[:max_panels])]
     if not incidents:
-        raise InputError("the validation found no collision to draw", value=result.get("collisions"))
+        raise InputError("the validation found no collision to draw", value=result.collisions)
     steps = _steps(problem, plan)
     cols = min(3, len(incidents))
     rows = math.ceil(len(incidents) / cols)
@@ -231,15 +232,15 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: dict[str, Any], 
         plot_configuration(ax, problem, q, highlight={a: COLORS["collision"], b: COLORS["collision"]})
     for ax in axes.ravel()[len(incidents):]:
         ax.set_axis_off()
-    more = result.get("collisions", 0) - len(incidents)
-    fig.suptitle(f"{result.get('collisions', 0)} collision incident(s)" + (f", first {len(incidents)} shown"
+    more = result.collisions - len(incidents)
+    fig.suptitle(f"{result.collisions} collision incident(s)" + (f", first {len(incidents)} shown"
                                                                           if more > 0 else ""), fontsize=10)
     fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))  # the legend's row at the bottom
     add_legend(fig, problem.kinematics.kind, ["collision"], loc="lower center", ncol=7, frameon=False)
     return save_figure(fig, path, dpi, tight=False)
 
 
-def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dict[str, Any] | None = None,
+def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: ValidationResult | None = None,
                      progress: Callable[[str, dict], None] | None = None) -> Path:
     """The ``--figure`` of ``supcoord solve``/``check``, by extension and by what there is to show.
 
@@ -265,7 +266,7 @@ def save_plan_figure(problem: Problem, plan: Plan, path: str | Path, result: dic
         problem = at_lattice(problem, plan.lattice)  # planned on a finer lattice (supcoord.problems.refine)
     if suffix == ".gif":
         return save_plan_gif(problem, plan, path, progress=progress)
-    if result is not None and result.get("incidents"):
+    if result is not None and result.incidents:
         return save_incidents_figure(problem, plan, result, path)
     if problem.n > OVERVIEW_ABOVE:
         return save_plan_overview(problem, plan, path, progress=progress)

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from dataclasses import asdict, dataclass
 from typing import Any, Callable
 
 import numpy as np
@@ -59,7 +60,7 @@ from .guards import conflict_graph, pair_graph, successor_table
 from .merged_motion import MergedMotions
 from .pair_replan import pair_replan
 
-__all__ = ["improve_plan", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
+__all__ = ["improve_plan", "ImproveStats", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
 
 #: the default work budget of :func:`improve_plan` (space-time re-plannings tried)
 REPLANS_PER_POSITIONER = 4
@@ -329,8 +330,35 @@ def _blocker_groups(r: int, blockers: list[int], tried: list[list[int]]) -> list
     return out
 
 
+@dataclass(frozen=True)
+class ImproveStats:
+    """What :func:`improve_plan` did: the makespan ``makespan_before`` and ``makespan_after``
+    (steps), the space-time re-plannings tried (``replans``, at most ``max_replans``), the
+    groups that shortened the plan (``improved``; of them ``improved_with_blockers`` with the
+    robots in the way, ``improved_with_pairs`` by a pair re-planned together) and the time
+    taken (``seconds``, wall clock)."""
+
+    makespan_before: int
+    replans: int
+    improved: int
+    improved_with_blockers: int
+    improved_with_pairs: int
+    max_replans: int
+    makespan_after: int
+    seconds: float
+
+    def to_json(self) -> dict[str, Any]:
+        """The statistics as a JSON object, in the order of the fields."""
+        return asdict(self)
+
+    def __getitem__(self, key: str) -> Any:
+        """The field ``key``: ``stats["replans"]``, the call form of the dictionary
+        :func:`improve_plan` returned before this class."""
+        return self.to_json()[key]
+
+
 def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | None = None,
-                 check: Callable[[], None] | None = None) -> tuple[list[np.ndarray], dict]:
+                 check: Callable[[], None] | None = None) -> tuple[list[np.ndarray], ImproveStats]:
     """A plan no longer than ``confs`` (module docstring) and statistics.
 
     Rounds go on until one improves nothing or ``max_replans`` space-time re-plannings have
@@ -353,7 +381,7 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
     stats["makespan_after"] = len(rp.traj) - 1
     stats["seconds"] = time.perf_counter() - t0
     out = [rp.pos[row] for row in rp.traj]
-    return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], stats
+    return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], ImproveStats(**stats)
 
 
 def default_replans(positioners: int) -> int:

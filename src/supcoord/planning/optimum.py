@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from dataclasses import dataclass, fields
 from typing import Any, Sequence
 
 import numpy as np
@@ -40,7 +41,7 @@ from .graph_order import cutwidth_order
 from .caches import caches_for
 from .guards import successor_table, table_bdd, var_names
 
-__all__ = ["optimal_makespan"]
+__all__ = ["optimal_makespan", "MakespanResult"]
 
 
 def _options(problem: Problem) -> list[np.ndarray]:
@@ -72,15 +73,80 @@ def _free_table(problem: Problem, k: int, options: list[np.ndarray], valid: np.n
     return out
 
 
-def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, budget: Budget | None = None,
-                     backend: str = "auto", want_path: bool = False) -> dict[str, Any]:
-    """``{"makespan": k or None, "layers": [...nodes], "seconds", "bdd_nodes"}`` (module
-    docstring); with ``want_path`` also ``"path"``: the configurations ``c_0 = start, …, c_k =
-    target`` of one fastest plan (``(N, J)`` arrays; None when unreachable).
+@dataclass(frozen=True)
+class MakespanResult:
+    """What :func:`optimal_makespan` found: ``makespan`` (steps; None: the target is
+    unreachable), ``layers`` (the size of each breadth-first layer ``F(k)``, configurations),
+    ``seconds`` (wall clock), ``bdd_nodes`` (peak live nodes) and, when asked for, ``path``:
+    the configurations ``c_0 = start, …, c_k = target`` of one fastest plan (``(N, J)`` index
+    arrays; None when unreachable or not asked for)."""
 
-    ``members``: search the sub-problem of these positioners with every other one removed
-    (the relaxation of :mod:`.windows`: a plan of the whole, restricted to them, is a plan
-    of it); the path's other rows stay at their start.
+    makespan: int | None
+    layers: list[int]
+    seconds: float
+    bdd_nodes: int
+    path: list[np.ndarray] | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """The result as a JSON object (the path as nested lists of lattice indices)."""
+        out: dict[str, Any] = {"makespan": self.makespan, "layers": list(self.layers), "seconds": self.seconds,
+                               "bdd_nodes": self.bdd_nodes}
+        if self.path is not None:
+            out["path"] = [np.asarray(c).tolist() for c in self.path]
+        return out
+
+    def __getitem__(self, key: str) -> Any:
+        """The attribute ``key``: ``result["makespan"]``, the call form of the dictionary
+        :func:`optimal_makespan` returned before this class."""
+        if key not in {f.name for f in fields(self)}:
+            raise KeyError(key)
+        return getattr(self, key)
+
+
+def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, budget: Budget | None = None,
+                     backend: str = "auto", want_path: bool = False) -> MakespanResult:
+    """The least number of simultaneous steps from the start to the target (module docstring).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem (lattice indices; lengths in mm).
+    members : sequence of int, optional
+        Search the sub-problem of these positioners with every other one removed (the
+        relaxation of :mod:`.windows`: a plan of the whole, restricted to them, is a plan of
+        it); the path's other rows stay at their start.
+    budget : Budget, optional
+        Node, time (s) and memory limits of the search.
+    backend : str, default "auto"
+        The BDD backend of ``dd``.
+    want_path : bool, default False
+        Also reconstruct one fastest plan (``path``), which keeps every layer.
+
+    Returns
+    -------
+    MakespanResult
+        The makespan (steps, None when unreachable), the layer sizes, the time, the peak
+        BDD nodes and, with ``want_path``, one fastest plan.
+
+    Raises
+    ------
+    BudgetExceeded
+        The budget ran out before the search ended.
+
+    Examples
+    --------
+    >>> from supcoord.problems import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [40, 0]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 8.0, "steps": 8},
+    ...                    "collision": {"buffer": 1.0}, "start": [0, 0], "target": [2, 7]})
+    >>> r = optimal_makespan(p, want_path=True)
+    >>> r.makespan, len(r.path)
+    (2, 3)
+
+    References
+    ----------
+    J. R. Burch, E. M. Clarke, D. E. Long, Symbolic model checking with partitioned
+    transition relations, 1991.
     """
     t0 = time.perf_counter()
     robots = list(range(problem.n)) if members is None else sorted({int(p) for p in members})
@@ -93,18 +159,15 @@ def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, 
         ctx.check_budget("optimal makespan", iteration=k)
         frontier = T.image(frontier, k) & ~seen  # F(k+1) = Img(F(k)) \ W(k)
         if frontier == ctx.false:
-            out = {"makespan": None, "layers": sizes, "seconds": time.perf_counter() - t0,
-                   "bdd_nodes": ctx.peak_nodes()}
-            return {**out, "path": None} if want_path else out
+            return MakespanResult(None, sizes, time.perf_counter() - t0, ctx.peak_nodes())
         seen |= frontier
         sizes.append(len(frontier))
         if want_path:
             layers.append(frontier)
         k += 1
-    out = {"makespan": k, "layers": sizes, "seconds": time.perf_counter() - t0, "bdd_nodes": ctx.peak_nodes()}
-    if want_path:
-        out["path"] = _path_back(ctx, problem, robots, T.names, layers, T.conjuncts, T.every)
-    return out
+    seconds, nodes = time.perf_counter() - t0, ctx.peak_nodes()
+    path = _path_back(ctx, problem, robots, T.names, layers, T.conjuncts, T.every) if want_path else None
+    return MakespanResult(k, sizes, seconds, nodes, path)
 
 
 class _Transitions:

@@ -206,9 +206,9 @@ def _scheduled(problem: Problem, settings: _Settings, found: RouteResult, stats:
     if (improve is None or improve > 0) and plan.makespan > plan.lower_bound:
         confs, st = improve_plan(work, plan.configurations, improve, check=lambda: model.ctx.check_budget("improve"))
         stats.makespan_scheduled = plan.makespan
-        stats.improve_seconds = st["seconds"]
-        stats.improved_groups = st["improved"]
-        stats.improve_replans = st["replans"]
+        stats.improve_seconds = st.seconds
+        stats.improved_groups = st.improved
+        stats.improve_replans = st.replans
         plan = Plan("complete", confs, len(confs) - 1, plan.lower_bound, plan.events, "", {})
     return _backwards(problem, plan, moves) if work is not problem else plan
 
@@ -220,9 +220,9 @@ def _checked(problem: Problem, settings: _Settings, plan: Plan, stats: SolveStat
     if settings.validation == "independent":
         _phase(settings.progress, "validate", steps=len(plan.configurations) - 1)
         result = validate_plan(problem, plan)
-        if not result["valid"]:
-            raise RuntimeError(f"internal error: the planner's plan fails validation: {result['problems'][:3]}")
-        stats.min_clearance = result["min_clearance"]
+        if not result.valid:
+            raise RuntimeError(f"internal error: the planner's plan fails validation: {result.problems[:3]}")
+        stats.min_clearance = result.min_clearance
         stats.validate_seconds = time.perf_counter() - t0 - stats.seconds
     if settings.speed is not None:
         _phase(settings.progress, "timing", steps=len(plan.configurations) - 1)

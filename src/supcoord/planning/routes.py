@@ -303,17 +303,17 @@ def simultaneous_search(problem: Problem, members: Sequence[int], budget: Budget
     sub = Budget(max_nodes=limit, timeout=remaining, max_memory=budget.max_memory)
     try:
         relaxed = optimal_makespan(problem, members=members, budget=sub)
-        if relaxed["makespan"] is None:
+        if relaxed.makespan is None:
             return SimultaneousResult("simultaneous", "an exhaustive symbolic search of the same positioners alone")
         if problem.n * kin.n_joints > options.joints:
             return SimultaneousResult(
-                "single-move", f"these positioners alone can reach their targets in {relaxed['makespan']} steps; the "
+                "single-move", f"these positioners alone can reach their targets in {relaxed.makespan} steps; the "
                                f"whole problem ({problem.n} positioners, more than {options.joints} joints) was not "
                                f"searched")
         whole = optimal_makespan(problem, budget=sub, want_path=True)
     except BudgetExceeded as exc:
         budget.check("simultaneous search")  # the user's own time or memory ran out: "unknown"
         return SimultaneousResult("single-move", f"the simultaneous search did not finish within its budget ({exc})")
-    if whole["makespan"] is None:
+    if whole.makespan is None:
         return SimultaneousResult("simultaneous", "an exhaustive symbolic search of the whole problem")
-    return SimultaneousResult("simultaneous", "a plan found by the simultaneous search", whole["path"])
+    return SimultaneousResult("simultaneous", "a plan found by the simultaneous search", whole.path)

@@ -13,7 +13,7 @@ from .plan import Plan, compact_moves, event_name, load_plan, lower_bound, parse
 from .presets import preset_problem
 from .problem import Problem, load_problem, parse_problem
 from .random import random_configuration, random_problem
-from .validate import validate_plan
+from .validate import ValidationResult, validate_plan
 from .validate_jaeger import JaegerCheck, check_jaeger, read_jaeger
 
 __all__ = [
@@ -29,6 +29,7 @@ __all__ = [
     "parse_plan",
     "plan_from_moves",
     "validate_plan",
+    "ValidationResult",
     "random_configuration",
     "random_problem",
     "preset_problem",

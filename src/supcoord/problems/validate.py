@@ -58,9 +58,10 @@ another segment-distance algorithm (closest points of two segments by clamped
 parameters, Ericson §5.1.9), its own neighbour bound ``|x_a − x_b| < reach_a + reach_b +
 2·max r``, and its own reading of trajectories, so that it can catch their bugs.
 
-Result: ``{"valid", "collisions", "at_target", "problems", "steps", "min_clearance",
-"incidents", "undecided", "undecided_depth"}`` (and ``"motion_time_s"``, the last
-breakpoint time, when the plan has trajectories) where ``collisions`` counts (step, pair)
+Result: a :class:`ValidationResult`, whose :meth:`~ValidationResult.to_json` is ``{"valid",
+"collisions", "at_target", "problems", "steps", "min_clearance", "incidents", "undecided",
+"undecided_depth"}`` (and ``"motion_time_s"``, the last breakpoint time, when the plan has
+trajectories), what ``supcoord check --json`` prints, where ``collisions`` counts (step, pair)
 incidents, ``at_target`` the positioners whose last position is their target,
 ``min_clearance`` the least ``dist − (r_a + r_b)`` seen, and ``incidents`` lists the first
 :data:`MAX_PROBLEMS` collisions as ``{"step": k, "positioners": [a, b], "t": t,
@@ -77,7 +78,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable
 
 import numpy as np
@@ -89,7 +90,7 @@ from .problem import Problem
 from .refine import at_lattice
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
-__all__ = ["validate_plan", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses", "MAX_PROBLEMS",
+__all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses", "MAX_PROBLEMS",
            "TOLERANCE", "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
 
 #: how many individual problems are listed before "... and N more"
@@ -98,6 +99,62 @@ MAX_PROBLEMS = 50
 RESOLUTION_RANGE = (1e-4, 100.0)
 #: degrees within which a plan's angles must meet the start, the target and the joint ranges
 ANGLE_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class ValidationResult:
+    """The verdict of :func:`validate_plan` on one plan (the module docstring's rule).
+
+    Attributes
+    ----------
+    valid : bool
+        No problem found: start to target, joints in range, no collision.
+    collisions : int
+        Colliding (step, pair) incidents, and (step, robot, obstacle) ones.
+    at_target : int
+        Robots whose last position is their target.
+    problems : list of str
+        One line per problem found, at most :data:`MAX_PROBLEMS` (then ``"... and N more"``).
+    steps : int
+        Steps of the motion checked.
+    min_clearance : float or None
+        The least ``dist − (r_a + r_b)`` seen (mm); None when nothing was measured.
+    incidents : list of dict
+        The first collisions: ``{"step", "positioners", "t", "distance", "required"}`` (``t`` in
+        [0, 1] of the step, distances in mm; against an obstacle also ``"obstacle"``).
+    undecided : int
+        Pairs accepted touching along a stretch, which no sampling settles.
+    undecided_depth : float
+        How deep a collision those pairs could hide at most (mm).
+    motion_time_s : float or None
+        The last breakpoint time (s) of a plan with trajectories, else None.
+    """
+
+    valid: bool
+    collisions: int
+    at_target: int
+    problems: list[str]
+    steps: int
+    min_clearance: float | None
+    incidents: list[dict[str, Any]]
+    undecided: int = 0
+    undecided_depth: float = 0.0
+    motion_time_s: float | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """The verdict as ``supcoord check --json`` prints it (``motion_time_s`` only when the
+        plan has trajectories)."""
+        out = {"valid": self.valid, "collisions": self.collisions, "at_target": self.at_target,
+               "problems": list(self.problems), "steps": self.steps, "min_clearance": self.min_clearance,
+               "incidents": list(self.incidents), "undecided": self.undecided, "undecided_depth": self.undecided_depth}
+        if self.motion_time_s is not None:
+            out["motion_time_s"] = self.motion_time_s
+        return out
+
+    def __getitem__(self, key: str) -> Any:
+        """The JSON field ``key`` of :meth:`to_json`: ``result["valid"]``, the call form of the
+        dictionary :func:`validate_plan` returned before this class."""
+        return self.to_json()[key]
 
 
 def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
@@ -163,7 +220,7 @@ def _check_events(kind: str, events: list[str], start: np.ndarray, last: np.ndar
                         f"(positioners {_ids(off)} differ)")
 
 
-def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dict[str, Any]:
+def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> ValidationResult:
     """Check a plan against its problem geometrically, independently of the planner.
 
     The rule is the module docstring's: start to target, joints in range, no collision at
@@ -182,13 +239,14 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
 
     Returns
     -------
-    dict
+    ValidationResult
         ``valid`` (bool), ``collisions`` (colliding step and pair incidents), ``at_target``
         (robots whose last position is their target), ``problems`` (one line each, at most
         :data:`MAX_PROBLEMS`), ``steps``, ``min_clearance`` (mm, or None), ``incidents``
         (the first collisions: step, positioners, time ``t`` in [0, 1] of the step,
         distance and required distance in mm), ``undecided`` and ``undecided_depth`` (mm);
-        ``motion_time_s`` (s) when the plan has trajectories.
+        ``motion_time_s`` (s) when the plan has trajectories; :meth:`~ValidationResult.to_json`
+        is what ``supcoord check --json`` prints.
 
     Raises
     ------
@@ -203,9 +261,9 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     ...                    "kinematics": {"kind": "rotary", "arm": 8.0, "steps": 4},
     ...                    "collision": {"buffer": 1.0}, "start": [0, 0], "target": [1, 0]})
     >>> r = validate_plan(p, Plan("complete", [p.start, p.target]))
-    >>> r["valid"], r["collisions"], r["at_target"], r["steps"]
+    >>> r.valid, r.collisions, r.at_target, r.steps
     (True, 0, 2, 1)
-    >>> validate_plan(p, Plan("complete", [p.start]))["problems"]
+    >>> validate_plan(p, Plan("complete", [p.start])).problems
     ['the last configuration is not the target (positioners 0 are not at target)']
 
     References
@@ -223,7 +281,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
         except InputError as exc:
             return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
     motion = _read_motion(problem, plan, problems)
-    if isinstance(motion, dict):  # refused: the result says why
+    if isinstance(motion, ValidationResult):  # refused: the result says why
         return motion
     checker = MotionChecker(problem, _bases(problem, problems), resolution, MAX_PROBLEMS)
     confs, poses, trajs = motion.confs, motion.poses, motion.trajs
@@ -241,7 +299,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
     result = _result(not problems, found.collisions, at_target, problems, n_steps, found.clearance, found.incidents,
                      (found.undecided, found.depth))
     if trajs is not None:
-        result["motion_time_s"] = end
+        result = replace(result, motion_time_s=end)
     return result
 
 
@@ -289,7 +347,7 @@ class _Motion:
     trajs: list[dict[str, np.ndarray]] | None
 
 
-def _read_motion(problem: Problem, plan: Plan, problems: list[str]) -> _Motion | dict[str, Any]:
+def _read_motion(problem: Problem, plan: Plan, problems: list[str]) -> _Motion | ValidationResult:
     """The plan's motion, or the result for one of the wrong shape or with no pose at all (a
     plan that is not complete is reported in ``problems`` and still checked)."""
     motion = _Motion([np.asarray(c, dtype=np.int64) for c in plan.configurations],
@@ -518,11 +576,10 @@ def _ids(idx: Any, limit: int = 10) -> str:
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,
             clearance: float | None, incidents: list[dict[str, Any]] | None = None,
-            undecided: tuple[int, float] = (0, 0.0)) -> dict[str, Any]:
+            undecided: tuple[int, float] = (0, 0.0)) -> ValidationResult:
     if len(problems) > MAX_PROBLEMS:
         problems = problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more"]
     if clearance is not None and not math.isfinite(clearance):
         clearance = None
-    return {"valid": bool(valid), "collisions": int(collisions), "at_target": int(at_target), "problems": problems,
-            "steps": int(steps), "min_clearance": clearance, "incidents": list(incidents or []),
-            "undecided": int(undecided[0]), "undecided_depth": float(undecided[1])}
+    return ValidationResult(bool(valid), int(collisions), int(at_target), problems, int(steps), clearance,
+                            list(incidents or []), int(undecided[0]), float(undecided[1]))

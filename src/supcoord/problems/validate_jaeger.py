@@ -143,7 +143,7 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
     limit = float(max_rpm) * 6.0
     result = validate_plan(problem, Plan("complete", trajectories=trajs), resolution)
     times, _ = trajectory_poses(trajs)
-    problems = list(result["problems"])
+    problems = list(result.problems)
     fastest = max((float(np.max(np.abs(np.diff(a[:, 1]) / np.diff(a[:, 0])))) for r in trajs for a in r.values()
                    if len(a) > 1), default=0.0)
     if fastest > limit * (1 + 1e-9):
@@ -151,7 +151,7 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
                         f"({max_rpm:g} RPM)")
     keys = _keys(problem)
     first = None
-    for inc in result["incidents"]:
+    for inc in result.incidents:
         k = inc["step"]
         t = float(times[k] + inc["t"] * (times[k + 1] - times[k])) if k + 1 < len(times) else float(times[k])
         if first is None or t < first["time_s"]:
@@ -162,5 +162,5 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
             if "obstacle" in inc:
                 first["obstacle"] = int(inc["obstacle"])
     points = sum(len(a) for r in source.get("trajectory", source).values() for a in r.values())
-    return JaegerCheck(not problems, int(result["collisions"]), first, result["min_clearance"], fastest, limit,
-                       float(times[-1]), points, problems, int(result["undecided"]))
+    return JaegerCheck(not problems, int(result.collisions), first, result.min_clearance, fastest, limit,
+                       float(times[-1]), points, problems, int(result.undecided))

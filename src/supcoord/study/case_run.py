@@ -210,9 +210,9 @@ def _solve(p: dict[str, Any], budget) -> Measurement:
         if p["validate"]:
             t1 = time.perf_counter()
             result = validate_plan(problem, plan)
-            extra.update(valid=result["valid"], validate_seconds=time.perf_counter() - t1)
-            if not result["valid"]:
-                out.status, out.message = "error", f"the plan fails validation: {result['problems'][:2]}"
+            extra.update(valid=result.valid, validate_seconds=time.perf_counter() - t1)
+            if not result.valid:
+                out.status, out.message = "error", f"the plan fails validation: {result.problems[:2]}"
     else:
         extra["certificate"] = s.get("certificate")
         out.message = plan.reason[:500]
