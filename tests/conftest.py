@@ -32,3 +32,21 @@ def bdd_backend(request) -> str:
     fixture runs once per backend (as ``dd``'s own backend-neutral tests do).  Session-scoped,
     so hypothesis' ``@given`` tests may use it too."""
     return request.param
+
+
+def _expected_length(item: pytest.Item) -> float:
+    """How long a test may take, as it declares it: a slow-marked test's time limit (its
+    ``timeout`` mark, else the default of ``pyproject.toml``); 0 for the others."""
+    if item.get_closest_marker("slow") is None:
+        return 0.0
+    mark = item.get_closest_marker("timeout")
+    return float(mark.args[0]) if mark is not None and mark.args else float(item.config.getini("timeout") or 0)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Run the slow tests first, the longest declared time limit first, and the others in their
+    order: with ``-n 2`` the workers take the tests in this order, so the minute-long tests start
+    at once on both workers and the short ones fill the end, instead of one long test running
+    alone at the end.  The sort is stable: tests of equal rank keep their order."""
+    items.sort(key=lambda item: -_expected_length(item))

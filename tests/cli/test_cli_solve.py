@@ -121,7 +121,8 @@ EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "docs" / "examples").gl
 ANSWERS = {"three_rotary": "complete", "hex19_rotary": "complete", "sdss_v_unfold": "complete",
            "sdss_v_exact": "complete", "infeasible_triangle": "infeasible", "sdss_v_apo": "complete"}
 #: examples that take minutes (a full wok: about a minute of CPU, docs/examples/README.md): parsed
-#: here, solved and checked once by tests/docs/test_examples_smoke.py (every robot at its target)
+#: here, solved and checked once by docs/instruments.md's block (tests/docs/test_readme_commands.py:
+#: complete, valid, every robot at its target)
 SLOW_EXAMPLES = {"sdss_v_apo"}
 
 

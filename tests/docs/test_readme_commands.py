@@ -39,6 +39,14 @@ EXCLUDED = {
 README_SETUP = ".venv/bin/supcoord demo"
 #: exit statuses a block documents besides 0 (none does so far)
 STATUS = {}
+#: what the blocks of a file must print, as a whole line of their standard output, and the plan
+#: they write with its status: docs/instruments.md solves and checks the 500-robot APO example,
+#: the one place in the suite that solves it (test_cli_solve.py and test_examples_smoke.py leave
+#: it to this block), so its plan must be complete and check valid with every robot at target
+PRINTS = {"docs/instruments.md": (r"VALID: \d+ steps, 0 collisions, 500/500 positioners at target",
+                                  "apo_plan.json", "complete")}
+#: what a clean run never prints on standard error (as tests/docs/test_examples_smoke.py)
+NOISE = ("Traceback", "Warning", "warning:", "Exception ignored")
 
 
 def bash_blocks(name: str) -> list[str]:
@@ -72,7 +80,7 @@ def clone(tmp_path: Path) -> tuple[Path, dict]:
     return tmp_path, env
 
 
-def run_block(block: str, cwd: Path, env: dict, allowed: set[int], timeout: float) -> str:
+def run_block(block: str, cwd: Path, env: dict, allowed: set[int], timeout: float) -> subprocess.CompletedProcess:
     """Run ``block`` as written; fail on a command that exits outside ``allowed`` or on a traceback."""
     # the ERR trap reports every failing command without stopping the block, as a shell would go on
     script = 'trap \'echo "@@failed $? $BASH_COMMAND" >&2\' ERR\n' + block
@@ -83,7 +91,7 @@ def run_block(block: str, cwd: Path, env: dict, allowed: set[int], timeout: floa
     shown = f"\n--- block ---\n{block}\n--- stderr ---\n{r.stderr[-3000:]}"
     assert not failed and r.returncode in allowed | {0}, f"commands failed: {failed}{shown}"
     assert "Traceback" not in r.stdout + r.stderr, f"a traceback{shown}"
-    return r.stdout
+    return r
 
 
 def test_every_block_is_run_or_excluded_with_a_reason():
@@ -128,8 +136,15 @@ def test_doc_blocks_run_as_written(clone, name):
     cwd, env = clone
     if any("jq " in b for b in to_run(name)) and shutil.which("jq") is None:
         pytest.skip(f"{name} pipes into jq, which is not installed")
-    for block in to_run(name):
-        run_block(block, cwd, env, STATUS.get((name, block.splitlines()[0]), {0}), 840)
+    runs = [run_block(block, cwd, env, STATUS.get((name, block.splitlines()[0]), {0}), 840) for block in to_run(name)]
+    if name in PRINTS:
+        line, plan_file, status = PRINTS[name]
+        out, err = "".join(r.stdout for r in runs), "".join(r.stderr for r in runs)
+        assert re.search(f"^{line}$", out, flags=re.M), out[-3000:]
+        assert not [word for word in NOISE if word in err], err[-3000:]
+        import json
+
+        assert json.loads((cwd / plan_file).read_text())["status"] == status
 
 
 @pytest.mark.slow
@@ -154,7 +169,7 @@ def test_a_failing_command_in_a_block_fails_the_run(clone):
     with pytest.raises(AssertionError, match="traceback"):
         run_block("python3 -c 'raise SystemExit(\"Traceback (most recent call last):\")' || true", cwd, env,
                   {0}, 60)
-    assert run_block("source .venv/bin/activate\ncommand -v supcoord", cwd, env, {0}, 60).strip().endswith("supcoord")
+    assert run_block("source .venv/bin/activate\ncommand -v supcoord", cwd, env, {0}, 60).stdout.strip().endswith("supcoord")
     if shutil.which("supcoord", path=fresh_shell(env)["PATH"]) is None:  # not installed system-wide as well
         with pytest.raises(AssertionError, match="commands failed"):
             run_block("supcoord --version", cwd, fresh_shell(env), {0}, 60)
