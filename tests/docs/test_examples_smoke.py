@@ -103,8 +103,8 @@ def smallest(study):
         rank = (case.size or 0, case.params.get("seed") or 0, case.block)
         if case.series not in best or rank < best[case.series][0]:
             best[case.series] = (rank, case)
-    return dataclasses.replace(study, cases=[dataclasses.replace(case, time_limit=min(case.time_limit, SMOKE_TIME_LIMIT))
-                                             for _, case in best.values()])
+    cases = [dataclasses.replace(case, time_limit=min(case.time_limit, SMOKE_TIME_LIMIT)) for _, case in best.values()]
+    return dataclasses.replace(study, cases=cases)
 
 
 @pytest.mark.slow

@@ -169,7 +169,8 @@ def test_a_failing_command_in_a_block_fails_the_run(clone):
     with pytest.raises(AssertionError, match="traceback"):
         run_block("python3 -c 'raise SystemExit(\"Traceback (most recent call last):\")' || true", cwd, env,
                   {0}, 60)
-    assert run_block("source .venv/bin/activate\ncommand -v supcoord", cwd, env, {0}, 60).stdout.strip().endswith("supcoord")
+    found = run_block("source .venv/bin/activate\ncommand -v supcoord", cwd, env, {0}, 60).stdout
+    assert found.strip().endswith("supcoord")
     if shutil.which("supcoord", path=fresh_shell(env)["PATH"]) is None:  # not installed system-wide as well
         with pytest.raises(AssertionError, match="commands failed"):
             run_block("supcoord --version", cwd, fresh_shell(env), {0}, 60)

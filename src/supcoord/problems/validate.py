@@ -90,8 +90,8 @@ from .problem import Problem
 from .refine import at_lattice
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
-__all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses", "MAX_PROBLEMS",
-           "TOLERANCE", "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
+__all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses",
+           "MAX_PROBLEMS", "TOLERANCE", "RESOLUTION_RANGE", "MAX_OPEN", "TIE", "ANGLE_TOL"]
 
 #: how many individual problems are listed before "... and N more"
 MAX_PROBLEMS = 50
