@@ -39,9 +39,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     """``supcoord conflicts``: check the output first, find the conflicts, write, say what was found."""
     from ..errors import InputError
-    from ..planning.conflicts import find_conflicts, write_conflicts
+    from ..outputs import atomic_write_text
+    from ..planning.conflicts import conflicts_csv, find_conflicts
     from ..problems.problem import load_problem
-    from .cmd_solve import as_option, writable
+    from .cmd_solve import writable
 
     if not 0 <= args.max_groups <= 10_000:
         raise InputError(f"must be a number of groups in [0, 10000], got {args.max_groups}", value=args.max_groups,
@@ -53,8 +54,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         console.warn(warning)
     report = find_conflicts(problem, args.max_groups, budget_from_args(args))
     if args.out:
-        with as_option("--out"):
-            write_conflicts(args.out, report.conflicts, [args.problem])
+        atomic_write_text(args.out, conflicts_csv(report.conflicts), inputs=[args.problem], what="--out")
     kinds = {k: sum(c.kind == k for c in report.conflicts) for k in dict.fromkeys(c.kind for c in report.conflicts)}
     text = (f"{len(report.conflicts)} conflicts" + (f" ({', '.join(f'{v} {k}' for k, v in kinds.items())})"
                                                      if kinds else "")

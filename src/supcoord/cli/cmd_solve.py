@@ -142,7 +142,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if colliding and (speed is not None or any(jaeger.values())):
         from ..errors import InputError
 
-        raise InputError(f"the start collides (robots {colliding[0][0]} and {colliding[0][1]}, {len(colliding)} pairs): "
+        n_pairs = f"{len(colliding)} pair" + ("s" if len(colliding) > 1 else "")
+        raise InputError(f"the start collides (robots {colliding[0][0]} and {colliding[0][1]}, {n_pairs}): "
                          f"its repair is planned as configurations, without timed trajectories", value=None,
                          where="--speed" if speed is not None else "--jaeger")
     if any(jaeger.values()):  # the limits refused before the work
@@ -245,7 +246,8 @@ def _summary(problem, plan, speed: float | None) -> str:
 
 def _repair_line(colliding: list, plan) -> str:
     """One line: the start collides, and what the repair moved (PLAN.json ``repair``)."""
-    text = f"the start collides ({len(colliding)} pairs, first robots {colliding[0][0]} and {colliding[0][1]})"
+    pairs = f"{len(colliding)} pair" + ("s" if len(colliding) > 1 else "")
+    text = f"the start collides ({pairs}, first robots {colliding[0][0]} and {colliding[0][1]})"
     repair = plan.repair.to_json() if plan.repair is not None else plan.stats.get("repair")
     if repair is None:
         return text + ": not repaired"

@@ -9,7 +9,7 @@ claims:
   at its target collides with a fixed obstacle; ``static-held``: with a robot held in place
   (offline or fixed) where it stands.  Checked at the target configuration with the
   collision definition of the problem.
-- **planned** (``planned-group``): a group of robots whose sub-problem (those robots alone,
+- **planned** (``planned-group``), from a collision-free start: a group of robots whose sub-problem (those robots alone,
   from their starts, every other robot removed; held robots and obstacles stay) has no
   single-move plan on the problem's lattice: the local route's certificate
   (:class:`~supcoord.planning.windows.Certificate`).  The groups are looked for among the
@@ -28,7 +28,6 @@ import csv
 import dataclasses
 import io
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -37,12 +36,11 @@ from ..errors import InputError
 from ..geometry.layout import _short
 from ..geometry.motion import placed_segments
 from ..geometry.segments import segment_distance
-from ..outputs import atomic_write_text
 from ..problems.problem import Problem
 from .planner import solve
 
 __all__ = ["Conflict", "ConflictReport", "KINDS", "CSV_COLUMNS", "find_conflicts", "static_conflicts",
-           "planned_conflicts", "target_names", "sub_problem", "conflicts_csv", "write_conflicts"]
+           "planned_conflicts", "target_names", "sub_problem", "conflicts_csv"]
 
 #: the kinds of a conflict (module docstring)
 KINDS = ("static-pair", "static-obstacle", "static-held", "planned-group")
@@ -111,7 +109,8 @@ def target_names(problem: Problem) -> list[str]:
     out = []
     for p in range(problem.n):
         xy = problem.bases[p] + problem.kin(p).fibre(problem.target[p])
-        out.append(f"r{p}@{xy[0] + 0.0:.3f},{xy[1] + 0.0:.3f}")
+        x, y = (round(float(v), 3) + 0.0 for v in xy)  # + 0.0: no "-0.000"
+        out.append(f"r{p}@{x:.3f},{y:.3f}")
     return out
 
 
@@ -211,7 +210,8 @@ def find_conflicts(problem: Problem, max_groups: int = 8, budget=None) -> Confli
     Raises
     ------
     InputError
-        ``max_groups`` negative, or ``target_ids`` of the wrong shape.
+        ``max_groups`` negative, ``target_ids`` of the wrong shape, or (``max_groups`` > 0)
+        a start whose robots collide.
 
     Examples
     --------
@@ -231,6 +231,11 @@ def find_conflicts(problem: Problem, max_groups: int = 8, budget=None) -> Confli
     if isinstance(max_groups, bool) or not isinstance(max_groups, int) or max_groups < 0:
         raise InputError(f"max_groups must be an integer >= 0, got {max_groups!r}", value=max_groups,
                          where="max_groups")
+    hits = problem.collisions(problem.start) if max_groups else []
+    if hits:
+        raise InputError(f"start configuration collides: positioners {hits[0][0]} and {hits[0][1]} (planned groups "
+                         f"need a collision-free start; max_groups or --max-groups 0: static conflicts only)",
+                         value=list(hits[0][:2]), where=problem.where)
     static = static_conflicts(problem)
     busy = {p for c in static for p in c.robots}
     for a, b, _ in problem.collisions(problem.target):  # a held robot's partner is busy too
@@ -249,10 +254,3 @@ def conflicts_csv(conflicts: Sequence[Conflict]) -> str:
     for c in conflicts:
         w.writerow([c.kind, len(c.robots), " ".join(map(str, c.robots)), " ".join(c.targets), c.reason])
     return buf.getvalue()
-
-
-def write_conflicts(path: str | Path, conflicts: Sequence[Conflict], inputs: Sequence[str | Path] = (),
-                    what: str = "output") -> None:
-    """Write :func:`conflicts_csv` atomically (never over one of ``inputs`` or through a link;
-    an error names ``what``)."""
-    atomic_write_text(path, conflicts_csv(conflicts), inputs=inputs, what=what)

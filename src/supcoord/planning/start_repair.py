@@ -19,7 +19,8 @@ lattice breadth-first (single-joint moves, fewest first) for a position free of 
 except the cover's robots still to move, taking only moves that obey the rule against the
 standing robots (the exact least distance of the turn, :func:`supcoord.geometry.sweep.rotation_clearance`).
 This search is not exhaustive (robots of the cover never move together), so when no cover
-of a component is realised the answer says so and is not a proof.  ``Repair.minimum`` is
+of a component is realised the colliding start is refused as before (:class:`RepairNotFound`,
+an :class:`~supcoord.errors.InputError` that says so): not a proof that no repair exists.  ``Repair.minimum`` is
 True when the robots moved are as many as the proven lower bound.
 """
 
@@ -42,7 +43,7 @@ from ..problems.plan import Move, Plan, event_name, lower_bound
 from ..problems.problem import Problem
 from ..problems.repair_phase import Repair, start_collisions
 from ..problems.validate import validate_plan
-from .planner import solve
+from . import planner
 
 __all__ = ["EXACT_ROBOTS", "MAX_COVERS", "RepairResult", "RepairNotFound", "repair_start", "solve_any_start"]
 
@@ -55,8 +56,9 @@ MAX_COVERS = 64
 _ROUNDING = 1e-9
 
 
-class RepairNotFound(ModelError):
-    """No cover of a component was realised by moving its robots one at a time (not a proof)."""
+class RepairNotFound(InputError):
+    """No cover of a component was realised by moving its robots one at a time (not a proof
+    that none exists): the colliding start stays the user's to fix, as before repairs."""
 
 
 @dataclass(frozen=True)
@@ -88,7 +90,8 @@ def repair_start(problem: Problem) -> RepairResult:
     InputError
         Two held (offline or fixed) robots collide with each other at the start.
     RepairNotFound
-        No cover of some component was realised (the search is not exhaustive).
+        No cover of some component was realised (the search is not exhaustive); an
+        :class:`~supcoord.errors.InputError`.
 
     Examples
     --------
@@ -142,17 +145,28 @@ def _components(pairs: list[tuple[int, int]]) -> list[list[tuple[int, int]]]:
 
 
 def _covers(edges: list[tuple[int, int]], held: set[int]) -> tuple[Any, int]:
-    """The covers to try (an iterator, smallest first) and a proven lower bound of their size."""
+    """The covers to try (smallest first) and a proven lower bound of their size: exact up to
+    :data:`EXACT_ROBOTS` robots, else a maximal matching's (module docstring)."""
     robots = sorted({p for e in edges for p in e})
     free = [p for p in robots if p not in held]
     forced = {b if a in held else a for a, b in edges if a in held or b in held}
     if len(robots) <= EXACT_ROBOTS:
-        bit = {p: 1 << i for i, p in enumerate(free)}
-        masks = [(bit.get(a, 0) | bit.get(b, 0)) for a, b in edges]
-        need = sum(bit[p] for p in forced)
-        found = [c for s in range(len(forced), len(free) + 1) for c in itertools.combinations(free, s)
-                 if _covered(c, bit, masks, need)]
-        return iter(found), (len(found[0]) if found else 0)
+        return _exact_covers(edges, free, forced)
+    return _matching_cover(edges, held, forced)
+
+
+def _exact_covers(edges: list[tuple[int, int]], free: list[int], forced: set[int]) -> tuple[Any, int]:
+    """Every cover of robots ``free`` holding ``forced``, by size; the least size (exact)."""
+    bit = {p: 1 << i for i, p in enumerate(free)}
+    masks = [(bit.get(a, 0) | bit.get(b, 0)) for a, b in edges]
+    need = sum(bit[p] for p in forced)
+    found = [c for s in range(len(forced), len(free) + 1) for c in itertools.combinations(free, s)
+             if _covered(c, bit, masks, need)]
+    return iter(found), (len(found[0]) if found else 0)
+
+
+def _matching_cover(edges: list[tuple[int, int]], held: set[int], forced: set[int]) -> tuple[Any, int]:
+    """The end points of a greedy maximal matching (with ``forced``), pruned; the matching's size."""
     matching: list[tuple[int, int]] = []
     used: set[int] = set()
     for a, b in edges:
@@ -196,8 +210,9 @@ class _Search:
                 return list(cover)
             self.current, self.configurations, self.moves = mark[0], self.configurations[:mark[1]], self.moves[:mark[2]]
         robots = sorted({p for e in edges for p in e})
-        raise RepairNotFound(f"start: the collisions among robots {robots} were not repaired by moving the robots of "
-                             f"a vertex cover one at a time (a search that is not exhaustive)")
+        raise RepairNotFound(f"start configuration collides and was not repaired: the collisions among robots "
+                             f"{robots} stay whichever robots of a vertex cover move, one at a time (a search that "
+                             f"is not exhaustive)", value=robots, where=self.problem.where)
 
     def _free(self, p: int, pending: set[int]) -> bool:
         """Breadth-first over robot ``p``'s positions to one free of every robot outside
@@ -285,13 +300,13 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
         :func:`~.planner.solve`'s plan when the start is free.  Else a ``complete`` plan
         whose first ``repair.steps`` steps are the repair phase (``plan.repair``,
         validated with it), or the verdict of the repaired problem with
-        ``stats["repair"]``, or ``unknown`` when no repair was found.
+        ``stats["repair"]``.
 
     Raises
     ------
     InputError
-        ``speed`` with a colliding start; held robots colliding with each other; and
-        :func:`~.planner.solve`'s errors.
+        ``speed`` with a colliding start; held robots colliding with each other; no repair
+        found (:class:`RepairNotFound`); and :func:`~.planner.solve`'s errors.
     BudgetExceeded
         The budget ran out while solving the repaired problem.
 
@@ -306,16 +321,13 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     ('complete', (0,), True)
     """
     if not start_collisions(problem):
-        return solve(problem, route, **options)
+        return planner.solve(problem, route, **options)
     if options.get("speed") is not None:
         raise InputError("a colliding start is repaired as a plan of configurations: give no speed", value=None,
                          where="speed")
     t0 = time.perf_counter()
-    try:
-        fixed = repair_start(problem)
-    except RepairNotFound as exc:
-        return Plan("unknown", [], None, lower_bound(problem), [], exc.message, {"seconds": time.perf_counter() - t0})
-    rest = solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route, **options)
+    fixed = repair_start(problem)
+    rest = planner.solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route, **options)
     rest.stats = dict(rest.stats, repair=fixed.repair.to_json(), repair_seconds=time.perf_counter() - t0)
     if rest.status != "complete" or rest.lattice is not None:
         if rest.status == "complete":  # planned on a finer lattice: the repair's positions are not on it
