@@ -171,3 +171,17 @@ def test_a_free_start_needs_no_repair():
     result = repair_start(problem)
     assert isinstance(result, RepairResult) and result.repair == Repair((), 0, True, 0)
     assert solve_any_start(problem, improve=0).repair is None
+
+
+def test_a_robot_squeezed_between_two_is_not_moved_closer_to_either():
+    # robot 0 collides with 1 (to its right, pointing back at it) and with 2 (below, pointing up):
+    # turning either way brings it closer to one of them, so the repair moves 1 and 2 instead
+    data = {"layout": {"kind": "points", "xy": [[0, 0], [20, 0], [0, -18]]},
+            "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 24}, "collision": {"buffer": 2.0},
+            "start": [1, 12, 18], "target": [12, 0, 6]}
+    problem = parse_problem_any_start(data)
+    assert start_collisions(problem) == [(0, 1), (0, 2)]
+    result = repair_start(problem)
+    assert result.repair.moved == (1, 2) and result.repair.lower_bound == 1 and not result.repair.minimum
+    plan = Plan("complete", result.configurations + [problem.target], repair=result.repair)
+    assert not [p for p in validate_plan(problem, plan)["problems"] if p.startswith("repair")]

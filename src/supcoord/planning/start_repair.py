@@ -321,13 +321,13 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     ('complete', (0,), True)
     """
     if not start_collisions(problem):
-        return planner.solve(problem, route, **options)
+        return planner.solve(problem, route=route, **options)
     if options.get("speed") is not None:
         raise InputError("a colliding start is repaired as a plan of configurations: give no speed", value=None,
                          where="speed")
     t0 = time.perf_counter()
     fixed = repair_start(problem)
-    rest = planner.solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route, **options)
+    rest = planner.solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route=route, **options)
     rest.stats = dict(rest.stats, repair=fixed.repair.to_json(), repair_seconds=time.perf_counter() - t0)
     if rest.status != "complete" or rest.lattice is not None:
         if rest.status == "complete":  # planned on a finer lattice: the repair's positions are not on it

@@ -33,6 +33,11 @@ an offline robot (``problem.held``) never leaves its angles and no robot under a
 turns a joint by more than a full turn is checked one turn at a time (the same motion); one
 of more than :data:`~.validate_motion.MAX_TURNS` turns is reported and not checked.
 
+A plan from a colliding start carries ``repair`` (:mod:`.repair_phase`): its first
+``repair.steps`` steps are checked by the repair rule (:mod:`.validate_repair`: only robots of
+colliding pairs move, a colliding pair never comes closer, no new collision, collision-free at
+the end), the rest as a plan from the repair phase's last configuration.
+
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
 rounding of an exact touch and not reported, so that the tables' and the validator's
