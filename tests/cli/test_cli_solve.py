@@ -77,7 +77,7 @@ def test_user_errors_exit_2_with_one_line(tmp_path):
     code, out, err = run("solve", str(tmp_path / "missing.json"))
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
     bad = copy.deepcopy(THREE)
-    bad["start"] = [0, 6, 0]  # 0 points at 1 while 1 points back at 0
+    bad["target"] = [0, 6, 0]  # 0 points at 1 while 1 points back at 0 (a colliding start is repaired instead)
     code, _, err = run("solve", _write(tmp_path, "collide.json", bad), "--json")
     assert code == 2 and "positioners 0 and 1" in err and len(err.strip().splitlines()) == 1
     code, _, err = run("solve", _write(tmp_path, "garbage.json", "{not json"))

@@ -154,6 +154,8 @@ def invocation(command: str, tmp: Path) -> list[str]:
         return ["solve", write(tmp, "problem.json", PROBLEM), "--out", tmp / "plan.json", "--json"]
     if command == "check":
         return ["check", write(tmp, "problem.json", PROBLEM), write(tmp, "plan.json", PLAN), "--json"]
+    if command == "conflicts":
+        return ["conflicts", write(tmp, "problem.json", PROBLEM), "--out", tmp / "pairs.csv", "--json"]
     if command == "study":  # how far a study is (running one is tests/study/test_study_run.py's)
         return ["study", "show", write(tmp, "s.toml", STUDY), "--json"]
     raise AssertionError(f"tests/cli/test_cli_surface.py has no valid invocation of the new command "
@@ -170,6 +172,7 @@ KEYS = {
     "force": {"status", "forcible", "witness", "rank", "layers"},
     "solve": {"status", "configurations", "makespan", "lower_bound", "events", "reason", "stats"},
     "check": {"valid", "collisions", "at_target", "problems"},
+    "conflicts": {"conflicts", "searched", "positioners"},
     "study": {"study", "database", "rows", "statuses", "series", "total", "done", "left"},
 }
 

@@ -3,7 +3,8 @@
 Prints ``{"valid", "collisions", "at_target", "problems", ...}`` (``docs/formats.md``), plus
 ``steps``, ``min_clearance`` and ``incidents`` (:func:`~supcoord.problems.validate.validate_plan`).
 An invalid plan is an answer (exit 0); a missing or malformed file, or a problem whose
-start or target itself collides, is a user error (exit 2, one line on stderr).
+start or target itself collides, is a user error (exit 2, one line on stderr), except a start
+whose robots collide with each other when the plan has a repair phase (PLAN.json ``repair``).
 ``--figure`` draws what was found: the collision incidents zoomed (``.png``/``.pdf``/
 ``.svg``/``.jpg``), or the plan animated with colliding positioners in red (``.gif``).
 A plan may be given by its ``configurations``, by ``angles_deg`` alone or by
@@ -19,6 +20,7 @@ import dataclasses
 from ..problems.plan import load_plan
 from ..errors import InputError, SupcoordError
 from ..problems.problem import MAX_PROBLEM_BYTES, load_problem, read_json
+from ..problems.repair_phase import load_problem_any_start
 from ..problems.validate import RESOLUTION_RANGE, validate_plan
 from .cmd_solve import as_option, figure_suffix
 from .common import CommandResult, Console, add_problem_argument
@@ -80,7 +82,10 @@ def _load_problem(problem_path: str, plan_path: str):
     """:func:`load_problem`, with a hint when the two files were given the other way round."""
     try:
         return load_problem(problem_path)
-    except InputError:
+    except InputError as exc:
+        if exc.message.startswith("start configuration collides") and isinstance(plan := _peek(plan_path), dict) \
+                and plan.get("repair") is not None:  # a plan that repairs its start first (formats.md)
+            return load_problem_any_start(problem_path)
         data = _peek(problem_path)
         found = [k for k in PLAN_FIELDS if k in data] if isinstance(data, dict) and "layout" not in data else []
         if not found:

@@ -3,7 +3,10 @@
 Prints the PLAN.json object (``docs/formats.md``): ``complete`` with a validated plan,
 ``infeasible`` with a ``reason`` naming the positioners (exit 0: an answer), or — when
 ``--max-nodes``/``--timeout`` run out — ``unknown`` with the statistics so far (exit 3).
-A missing or malformed problem, or a start/target that itself collides, exits 2.
+A missing or malformed problem, or a target that itself collides, exits 2; a start whose
+robots collide with each other is repaired first (:mod:`supcoord.planning.start_repair`,
+PLAN.json ``repair``), which the output says in one line.  ``--keep 3,17`` keeps robots at
+their start as obstacles (:mod:`supcoord.problems.fixed_robots`).
 ``--figure``: ``.gif`` animates a complete plan, ``.png``/``.pdf``/``.svg``/``.jpg`` draw
 a strip of its frames; an infeasible answer draws the problem with the positioners
 of its certificate in orange.  Fields of the problem file that the format does not
@@ -74,6 +77,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-refine", action="store_true",
                    help="answer with the lattice's single-move certificate (default: on problems too large for the "
                         "simultaneous search, solve once more on a lattice with steps 2/3 as long)")
+    p.add_argument("--keep", metavar="ROBOTS",
+                   help="robots (indices from 0, comma-separated: 3,17) kept at their start as obstacles for the others")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -119,19 +124,31 @@ def as_option(flag: str) -> Iterator[None]:
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
     """``supcoord solve``: check the outputs before the work, solve, write, and say what was done."""
-    from ..planning.planner import FinerLattice, Simultaneous, solve
+    from ..planning.planner import FinerLattice, Simultaneous
     from ..planning.routes import route_named
-    from ..problems.problem import load_problem
+    from ..planning.start_repair import solve_any_start
+    from ..problems.fixed_robots import keep_fixed, parse_robot_list
+    from ..problems.repair_phase import load_problem_any_start, start_collisions
 
     budget = budget_from_args(args)
     speed, improve, csv, jaeger = _checked_options(args)
     console.progress("load", {"file": args.problem})
-    problem = load_problem(args.problem)
+    problem = load_problem_any_start(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
+    if getattr(args, "keep", None) is not None:
+        problem = keep_fixed(problem, parse_robot_list(args.keep, problem.n, "--keep"), "--keep")
+    colliding = start_collisions(problem)
+    if colliding and (speed is not None or any(jaeger.values())):
+        from ..errors import InputError
+
+        n_pairs = f"{len(colliding)} pair" + ("s" if len(colliding) > 1 else "")
+        raise InputError(f"the start collides (robots {colliding[0][0]} and {colliding[0][1]}, {n_pairs}): "
+                         f"its repair is planned as configurations, without timed trajectories", value=None,
+                         where="--speed" if speed is not None else "--jaeger")
     if any(jaeger.values()):  # the limits refused before the work
         _check_jaeger_limits(problem, args)
-    plan = solve(problem, route=route_named(args.route, args.order), backend=args.backend, budget=budget,
+    plan = solve_any_start(problem, route=route_named(args.route, args.order), backend=args.backend, budget=budget,
                  progress=console.progress, speed=speed, improve=improve,
                  simultaneous=None if args.single_move_only else Simultaneous(),
                  finer=None if args.no_refine else FinerLattice())
@@ -150,6 +167,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         with as_option("--figure"):
             save_plan_figure(problem, plan, args.figure, progress=console.progress)
     text = _summary(problem, plan, speed)
+    if colliding:
+        text = _repair_line(colliding, plan) + "\n" + text
     if args.out:
         text += f"\nplan written to {args.out}"
     if csv is not None:
@@ -223,6 +242,19 @@ def _summary(problem, plan, speed: float | None) -> str:
     if plan.motion_time_s is not None:
         text += f"\nmotion time {plan.motion_time_s:.3f} s at {speed:g} deg/s"
     return text
+
+
+def _repair_line(colliding: list, plan) -> str:
+    """One line: the start collides, and what the repair moved (PLAN.json ``repair``)."""
+    pairs = f"{len(colliding)} pair" + ("s" if len(colliding) > 1 else "")
+    text = f"the start collides ({pairs}, first robots {colliding[0][0]} and {colliding[0][1]})"
+    repair = plan.repair.to_json() if plan.repair is not None else plan.stats.get("repair")
+    if repair is None:
+        return text + ": not repaired"
+    how = ("the fewest any repair moves" if repair["minimum"]
+           else f"at least {repair['lower_bound']} must move")
+    return (text + f": repaired first by moving robots {', '.join(map(str, repair['moved']))} in {repair['steps']} "
+            f"steps ({how})")
 
 
 def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:

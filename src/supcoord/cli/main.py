@@ -33,7 +33,7 @@ from .common import CommandResult, Console, add_common_options, budget_from_args
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: command modules, in the order ``--help`` lists them
-COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check", "study"]
+COMMANDS = ["demo", "paper", "supcon", "force", "solve", "check", "conflicts", "study"]
 
 
 EPILOG = """examples:

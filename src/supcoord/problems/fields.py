@@ -26,10 +26,10 @@ __all__ = ["KNOWN_FIELDS", "EXTRA_FIELDS", "MAX_OBSTACLES", "apply_preset", "rea
 #: most fixed obstacles a layout may list
 MAX_OBSTACLES = 100_000
 #: top-level fields kept as they are (descriptive, or the preset that filled the file in)
-EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
+EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed", "target_ids")
 #: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
 KNOWN_FIELDS = {
-    "": ("layout", "kinematics", "collision", "start", "target", "priority", "offline", "fibre") + EXTRA_FIELDS,
+    "": ("layout", "kinematics", "collision", "start", "target", "priority", "offline", "fixed", "fibre") + EXTRA_FIELDS,
     "layout/hex": ("kind", "rings", "pitch"),
     "layout/points": ("kind", "xy", "obstacles"),
     "layout/instrument": LAYOUT_FIELDS,

@@ -41,6 +41,7 @@ from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
 from ..geometry.kinematics import MAX_POSITIONS, Kinematics, _is_int
 from ..geometry.layout import _short
 from .problem import Problem, read_json
+from .repair_phase import Repair, read_repair
 from .trajectory import check_speed, motion_to_json, parse_motion_fields, wrapped_angles, with_motion
 
 __all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves", "reversed_moves", "exchanged",
@@ -98,6 +99,8 @@ class Plan:
     #: the joints' numbers of positions the configurations index where ``solve`` planned on a
     #: finer lattice than the problem's (:mod:`.refine`); None: the problem's own
     lattice: tuple[int, ...] | None = None
+    #: the repair phase of a plan from a colliding start (:mod:`.repair_phase`), or None
+    repair: Repair | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -152,6 +155,8 @@ class Plan:
         out.update(motion_to_json(self))
         if self.lattice is not None:
             out["lattice"] = [int(s) for s in self.lattice]
+        if self.repair is not None:
+            out["repair"] = self.repair.to_json()
         if problem is not None:  # the collision definition the plan was made and checked under
             out["collision"] = problem.collision_statement()
         return out
@@ -203,7 +208,8 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
         raise FormatError(f"lattice must list {n_joints} numbers of positions in [2, {MAX_POSITIONS}], got "
                           f"{_short(lattice)}", value=lattice, where=where)
     return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
-                motion, None if lattice is None else tuple(int(s) for s in lattice))
+                motion, None if lattice is None else tuple(int(s) for s in lattice),
+                read_repair(data.get("repair"), problem.n, where))
 
 
 def _configurations(confs: Any, problem: Problem, where: str | None) -> list[np.ndarray]:

@@ -46,7 +46,8 @@ from ..geometry.segments import segment_distance
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, apply_preset, read_buffers, read_margin, read_obstacles,
                      read_priority, unknown_fields)
 from .instrument import definition_kept, instrument_collision, instrument_setup, problem_fibre
-from .targets import parse_offline, parse_positions, radian_warnings, robot_lattices, with_angles
+from .targets import (fixed_targets, parse_offline, parse_positions, radian_warnings, read_fixed, robot_lattices,
+                      with_angles)
 from .json_input import read_json
 from .unlock import unlock_lattices, with_lattices
 
@@ -309,9 +310,11 @@ class Problem:
                     ang[..., 0] %= 360.0
                 out[name] = {"alpha_beta_deg": ang.tolist()}
         out["priority"] = [int(p) for p in self.priority]
-        if self.held:
+        if self.held and self.kinematics.kind == "alpha-beta":
             ang = self.angles_deg(self.start)
             out["offline"] = {str(p): [float(v) for v in ang[p]] for p in sorted(self.held)}
+        elif self.held:  # "offline" takes angles, which rotary robots do not have
+            out["fixed"] = sorted(int(p) for p in self.held)
         return out
 
     def dump(self, path: str | Path) -> None:
@@ -342,7 +345,7 @@ def parse_problem(data: Any, where: str | None = None, check_collisions: bool = 
         The decoded PROBLEM.json (``docs/formats.md``): ``layout`` (bases in mm),
         ``kinematics`` (arm lengths in mm, lattice steps), ``collision`` (buffers and margins
         in mm), ``start`` and ``target`` (lattice indices, joint angles in degrees or fibre
-        positions in mm), and the optional ``priority``, ``offline``, ``fibre``, ``preset``.
+        positions in mm), and the optional ``priority``, ``offline``, ``fixed``, ``fibre``, ``preset``.
     where : str, optional
         Where the data came from (a file name), named by every error.
     check_collisions : bool, default True
@@ -446,6 +449,9 @@ def _positions(data: dict, kin: Kinematics, bases: np.ndarray, base_kins: list[K
     held = parse_offline(data.get("offline"), n, kin, where, base_kins)
     if held:  # an offline robot stands at its angles from start to target
         start, target = (with_angles(c, held, kin, base_kins) for c in (start, target))
+    fixed = read_fixed(data.get("fixed"), n, where)  # a fixed robot stands at its start (.fixed_robots)
+    target = fixed_targets(start, target, fixed, kin, base_kins)
+    held = {**{p: None for p in fixed}, **held}
     robot_kins = base_kins
     if not (isinstance(start, np.ndarray) and isinstance(target, np.ndarray)):
         try:

@@ -33,10 +33,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import FormatError, InputError
-from ..geometry.kinematics import AlphaBeta, Kinematics, exact_lattice
+from ..geometry.kinematics import AlphaBeta, Kinematics, _is_int, exact_lattice
 from ..geometry.layout import _finite_number, _short
 
-__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "parse_offline", "with_angles", "robot_lattices",
+__all__ = ["ANGLE_FORMS", "HANDEDNESS", "parse_positions", "parse_offline", "read_fixed", "fixed_targets", "with_angles", "robot_lattices",
            "radian_warnings"]
 
 #: the object forms of a start or target (besides a list of indices)
@@ -132,6 +132,44 @@ def parse_offline(value: Any, n: int, kin: Kinematics, where: str | None,
                              where=where)
         out[p] = _in_ranges(kin if robots is None else robots[p], float(ab[0]), float(ab[1]), f"offline.{key}", where)
     return out
+
+def read_fixed(value: Any, n: int, where: str | None) -> list[int]:
+    """PROBLEM.json's ``"fixed": [robot, ...]`` (robot indices from 0): the robots kept at their start.
+
+    >>> read_fixed([3, 1], 7, None)
+    [1, 3]
+    >>> read_fixed([9], 7, "p.json")
+    Traceback (most recent call last):
+    ...
+    supcoord.errors.InputError: p.json: fixed[0]: 9 is not a robot index in [0, 6]
+    """
+    if value is None:
+        return []
+    if not isinstance(value, list):
+        raise FormatError(f"fixed must be a list of robot indices, got {_short(value)}", value=value, where=where)
+    out: set[int] = set()
+    for i, p in enumerate(value):
+        if not _is_int(p) or not 0 <= p < n:
+            raise InputError(f"fixed[{i}]: {_short(p)} is not a robot index in [0, {n - 1}]", value=p, where=where)
+        if p in out:
+            raise InputError(f"fixed[{i}]: robot {p} is listed twice", value=p, where=where)
+        out.add(int(p))
+    return sorted(out)
+
+
+def fixed_targets(start: Any, target: Any, fixed: list[int], kin: Kinematics,
+                  robots: list | None = None) -> Any:
+    """``target`` with each robot of ``fixed`` at its ``start`` (index arrays, or lists of
+    exact ``(α, β)`` degrees as :mod:`.targets` reads them)."""
+    if not fixed:
+        return target
+    if isinstance(start, np.ndarray) and isinstance(target, np.ndarray):
+        out = target.copy()
+        out[fixed] = start[fixed]
+        return out
+    at_start = {p: (tuple(float(v) for v in (kin if robots is None else robots[p]).joint_angles_deg(start[p]))
+                    if isinstance(start, np.ndarray) else start[p]) for p in fixed}
+    return with_angles(target, at_start, kin, robots)  # type: ignore[arg-type]
 
 
 def with_angles(conf: Any, fixed: dict[int, tuple[float, float]], kin: AlphaBeta,

@@ -33,6 +33,11 @@ an offline robot (``problem.held``) never leaves its angles and no robot under a
 turns a joint by more than a full turn is checked one turn at a time (the same motion); one
 of more than :data:`~.validate_motion.MAX_TURNS` turns is reported and not checked.
 
+A plan from a colliding start carries ``repair`` (:mod:`.repair_phase`): its first
+``repair.steps`` steps are checked by the repair rule (:mod:`.validate_repair`: only robots of
+colliding pairs move, a colliding pair never comes closer, no new collision, collision-free at
+the end), the rest as a plan from the repair phase's last configuration.
+
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
 rounding of an exact touch and not reported, so that the tables' and the validator's
@@ -76,6 +81,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass, replace
@@ -88,6 +94,7 @@ from .consistency import check_problem, plan_defects
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
+from .validate_repair import check_repair_phase
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
 __all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses",
@@ -280,6 +287,8 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
             problem = at_lattice(problem, plan.lattice)
         except InputError as exc:
             return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
+    if plan.repair is not None:  # from a colliding start: the repair phase, then a plan from its end
+        return _validate_repaired(problem, plan, resolution)
     motion = _read_motion(problem, plan, problems)
     if isinstance(motion, ValidationResult):  # refused: the result says why
         return motion
@@ -301,6 +310,48 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
     if trajs is not None:
         result = replace(result, motion_time_s=end)
     return result
+
+
+def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> dict[str, Any]:
+    """A plan with a repair phase ``c_0 … c_k`` (:mod:`.validate_repair`), then ``c_k … c_T``
+    checked as a plan from ``c_k``; the events and makespan over the whole plan."""
+    problems: list[str] = []
+    confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
+    k, kin = plan.repair.steps, problem.kinematics
+    steps, wraps = np.array([j.steps for j in kin.joints]), np.array([j.wraps for j in kin.joints])
+    if plan.trajectories is not None or k >= len(confs):
+        problems.append("a plan with a repair phase needs configurations beyond its repair.steps and no trajectories "
+                        f"({len(confs)} configurations, repair.steps {k})")
+        return _result(False, 0, 0, problems, max(0, len(confs) - 1), None)
+    out = [j for j, c in enumerate(confs) if np.any((c < 0) | (c >= steps))]
+    if out or not np.array_equal(confs[0], problem.start):
+        problems.append(f"configurations[{out[0]}] is out of the joint ranges" if out else
+                        "configurations[0] is not the start")
+        return _result(False, 0, 0, problems, len(confs) - 1, None)
+    if plan.angles_deg:
+        _check_angles_match(problem, confs, plan.angles_deg, problems)
+    _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs[:k + 1]])),
+                          "repair", problems)
+
+    def step(j: int) -> tuple[np.ndarray, np.ndarray]:
+        a0 = problem.angles_deg(confs[j])
+        if j >= k:
+            return a0, np.zeros_like(a0)
+        return a0, problem.angles_deg(confs[j] + _step_delta(confs[j], confs[j + 1], steps, wraps, j, problems)) - a0
+
+    fixed = check_repair_phase(problem, _bases(problem, problems), plan.repair.moved, k + 1, step, resolution, problems)
+    tail = Plan(plan.status, confs[k:], len(confs) - 1 - k, None, [], plan.reason, {},
+                list(plan.angles_deg[k:]), None, None, plan.lattice)
+    rest = validate_plan(dataclasses.replace(problem, start=confs[k]), tail, resolution)
+    problems += [f"after the repair phase (step {k} on): {p}" for p in rest["problems"]]
+    if plan.events:
+        _check_events(kin.kind, plan.events, problem.start, confs[-1], steps, wraps, problems)
+    if plan.makespan is not None and plan.makespan != len(confs) - 1:
+        problems.append(f"makespan is {plan.makespan} but the plan has {len(confs) - 1} steps")
+    clearance = min(fixed.clearance, rest["min_clearance"] if rest["min_clearance"] is not None else math.inf)
+    return _result(not problems, fixed.collisions + rest["collisions"], rest["at_target"], problems, len(confs) - 1,
+                   clearance, [dict(i, step=i["step"] + k) for i in rest["incidents"]], (fixed.undecided + rest["undecided"],
+                                                  max(fixed.depth, rest["undecided_depth"])))
 
 
 def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:
