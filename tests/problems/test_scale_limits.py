@@ -67,9 +67,9 @@ def test_negative_or_fractional_rings_are_format_errors():
 
 
 def test_check_robot_count_names_field_and_value():
-    check_robot_count(65_536, "layout", "65536 positioners", memory=16 * GIB)
-    with pytest.raises(InputError, match="layout = 65537 positioners gives 65537 robots"):
-        check_robot_count(65_537, "layout", "65537 positioners", memory=16 * GIB)
+    check_robot_count(32_768, "layout", "32768 positioners", memory=16 * GIB)
+    with pytest.raises(InputError, match="layout = 32769 positioners gives 32769 robots"):
+        check_robot_count(32_769, "layout", "32769 positioners", memory=16 * GIB)
 
 
 @pytest.mark.slow

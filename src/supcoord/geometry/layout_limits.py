@@ -2,16 +2,17 @@
 
 Planning ``N`` robots takes memory roughly in proportion to ``N`` (the problem's arrays, the
 neighbour pairs, the collision tables of the pairs a search touches, the windows' BDDs).
-:data:`BYTES_PER_ROBOT` is that proportion, measured with room to spare
-(``benchmarks/results/memory-nextgen.md``: at most about 190 KiB per robot at 5,000 to
-20,000 robots), and the most robots a problem may have is::
+:data:`BYTES_PER_ROBOT` is that proportion with room to spare: DESI's geometry on the
+13 × 7 lattice without plan improvement peaked at about 250 KiB per robot at 1,801 robots,
+350 KiB at 5,167, 320 KiB at 10,981 and 190 KiB at 19,927 (``benchmarks/results/nextgen.md``),
+and the most robots a problem may have is::
 
     N_max = memory / BYTES_PER_ROBOT
 
 where ``memory`` (:func:`memory_limit`) is the machine's memory, or the process's data or
 address-space limit when lower (the command line's ``--max-memory`` sets the data limit).
-On a machine of 24 GiB that is about 98,000 robots (a hex grid of 180 rings); 16 GiB allow
-about 65,000.  A layout is checked against it from its numbers alone (``rings``, or the
+On a machine of 24 GiB that is 49,152 robots (a hex grid of 127 rings); 16 GiB allow
+32,768 (104 rings, 32,761 robots).  A layout is checked against it from its numbers alone (``rings``, or the
 length of a list of points) before any array is made, so a typo such as ``rings = 10**9``
 is one line at once, not an exhausted machine.
 """
@@ -26,7 +27,7 @@ from ..errors import InputError
 __all__ = ["BYTES_PER_ROBOT", "memory_limit", "robot_limit", "check_robot_count"]
 
 #: estimated peak bytes per robot of posing and planning a problem (module docstring)
-BYTES_PER_ROBOT = 256 * 2**10
+BYTES_PER_ROBOT = 512 * 2**10
 
 
 def memory_limit() -> int:
@@ -70,7 +71,7 @@ def robot_limit(memory: int | None = None) -> int:
     Examples
     --------
     >>> robot_limit(16 * 2**30)
-    65536
+    32768
     """
     return max(1, int(memory_limit() if memory is None else memory) // BYTES_PER_ROBOT)
 
@@ -101,7 +102,7 @@ def check_robot_count(n: int, field: str, value: object, where: str | None = Non
     >>> check_robot_count(3 * 10**18, "layout.rings", 10**9, memory=16 * 2**30)
     Traceback (most recent call last):
     ...
-    supcoord.errors.InputError: layout.rings = 1000000000 gives 3000000000000000000 robots, more than the 65536 that 16.0 GiB of memory allow (256 KiB per robot)
+    supcoord.errors.InputError: layout.rings = 1000000000 gives 3000000000000000000 robots, more than the 32768 that 16.0 GiB of memory allow (512 KiB per robot)
     """
     memory = memory_limit() if memory is None else int(memory)
     limit = robot_limit(memory)
