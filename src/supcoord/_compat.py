@@ -69,8 +69,10 @@ ALSO: dict[str, tuple[str, ...]] = {
     "positioners.planner_forward": ("bdd.context",),
 }
 
-#: names of release 0.1 removed as dead code (nothing used them)
-REMOVED: dict[str, tuple[str, ...]] = {"positioners.coordination": ("order_bandwidth",)}
+#: names of release 0.1 removed: dead code (nothing used it), and the constant robot limit (now set by
+#: memory: :mod:`supcoord.geometry.layout_limits`)
+REMOVED: dict[str, tuple[str, ...]] = {"positioners.coordination": ("order_bandwidth",),
+                                       "positioners.problem": ("MAX_POSITIONERS",)}
 
 #: the old ``supcoord.positioners`` package's ``__all__``: name -> new module
 POSITIONERS_NAMES: dict[str, str] = {}  # filled below

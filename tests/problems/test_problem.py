@@ -160,7 +160,7 @@ def test_preset_fills_in_what_the_file_leaves_out():
 
 
 @pytest.mark.parametrize("path,value,exc,message", [
-    (("preset",), "sdss", InputError, "preset must be one of 'sdss-v', 'desi', 'moons', 'pfs', got 'sdss'"),
+    (("preset",), "sdss", InputError, "preset must be one of 'sdss-v', 'desi', 'moons', 'pfs', 'spec-s5', 'must', 'wst', got 'sdss'"),
     (("preset",), 3, InputError, "preset must be one of"),
     (("preset",), "moons", FormatError, "layout.pitch is missing and preset 'moons' has no pitch"),
     (("kinematics", "kind"), "rotary", InputError, "preset 'sdss-v' describes alpha-beta positioners"),

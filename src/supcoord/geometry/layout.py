@@ -15,6 +15,9 @@ ring".
 A ``points`` layout is an explicit list ``[[x, y], ...]`` in mm, kept in the order
 given.
 
+How many robots a layout may have is set by the memory there is
+(:mod:`.layout_limits`), checked from ``rings`` or the list's length before any array is made.
+
 References
 ----------
 - J. Sayres et al., SDSS-V focal plane system (robots on a 22.4 mm hexagonal grid).
@@ -29,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FormatError, InputError
+from .layout_limits import check_robot_count
 
 __all__ = ["hex_count", "hex_grid", "hex_rings_of", "points_layout", "layout_from_spec"]
 
@@ -82,6 +86,7 @@ def points_layout(xy: Any, where: str | None = None) -> np.ndarray:
     """An explicit list of bases ``[[x, y], ...]`` (mm) as an ``(N, 2)`` array; distinct points."""
     if not isinstance(xy, (list, tuple, np.ndarray)) or len(xy) == 0:
         raise FormatError(f"layout.xy must be a non-empty list of [x, y] pairs, got {_short(xy)}", value=xy, where=where)
+    check_robot_count(len(xy), "layout.xy", f"{len(xy)} points", where)
     rows = []
     for i, p in enumerate(xy):
         if (not isinstance(p, (list, tuple, np.ndarray)) or len(p) != 2
@@ -104,8 +109,10 @@ def layout_from_spec(spec: Any, where: str | None = None) -> np.ndarray:
     kind = spec.get("kind")
     if kind == "hex":
         rings, pitch = spec.get("rings"), spec.get("pitch")
-        if isinstance(rings, bool) or not isinstance(rings, int) or not 0 <= rings <= 60:
-            raise FormatError(f"layout.rings must be an integer in [0, 60], got {_short(rings)}", value=rings, where=where)
+        if isinstance(rings, bool) or not isinstance(rings, int) or rings < 0:
+            raise FormatError(f"layout.rings must be a non-negative integer, got {_short(rings)}", value=rings,
+                              where=where)
+        check_robot_count(hex_count(rings), "layout.rings", rings, where)
         if not _positive_number(pitch) or pitch > 1e6:
             raise FormatError(f"layout.pitch must be a positive number (mm) <= 1e6, got {_short(pitch)}", value=pitch, where=where)
         return hex_grid(rings, float(pitch))

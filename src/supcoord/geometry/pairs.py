@@ -11,10 +11,10 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .fleet import robot_reaches, robot_segments
 from .kinematics import Kinematics
-from .motion import CHUNK
 from .segments import segment_distance
 
 __all__ = ["neighbour_pairs", "colliding_pairs"]
@@ -23,30 +23,28 @@ __all__ = ["neighbour_pairs", "colliding_pairs"]
 def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
     """Pairs ``(a, b)``, ``a < b``, whose reach discs grown by the buffers overlap: ``(P, 2)`` ints.
 
-    ``|x_a − x_b| < reach_a + reach_b + r_a + r_b``; computed in row chunks (no KD-tree),
-    sorted lexicographically.
+    ``|x_a − x_b| < reach_a + reach_b + r_a + r_b``, sorted lexicographically.  The candidates
+    are the pairs a k-d tree finds within twice the largest grown reach
+    (:meth:`scipy.spatial.cKDTree.query_pairs`, with room for its rounding); each is then
+    decided by the formula above, so the time and memory grow with the pairs, not ``N²``.
 
     >>> neighbour_pairs([[0, 0], [9, 0], [30, 0]], 4.0, 1.0).tolist()
     [[0, 1]]
     """
-    xy = np.asarray(bases, float)
+    xy = np.asarray(bases, float).reshape(-1, 2)
     n = len(xy)
     reach = np.broadcast_to(np.asarray(reach, float), (n,))
     buffers = np.broadcast_to(np.asarray(buffers, float), (n,))
     grow = reach + buffers
-    out = []
-    rows = max(1, CHUNK * 16 // max(n, 1))
-    for lo in range(0, n, rows):
-        hi = min(n, lo + rows)
-        d = np.linalg.norm(xy[lo:hi, None, :] - xy[None, :, :], axis=-1)
-        close = d < grow[lo:hi, None] + grow[None, :]
-        ia, ib = np.nonzero(close)
-        ia = ia + lo
-        keep = ia < ib
-        out.append(np.stack([ia[keep], ib[keep]], axis=-1))
-    pairs = np.concatenate(out) if out else np.zeros((0, 2), int)
-    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))].astype(int) if len(pairs) else pairs.astype(int).reshape(0, 2)
-
+    if n < 2:
+        return np.zeros((0, 2), dtype=int)
+    radius = 2 * float(grow.max()) * (1 + 1e-9) + 1e-9
+    pairs = cKDTree(xy).query_pairs(radius, output_type="ndarray").astype(int).reshape(-1, 2)
+    pairs.sort(axis=1)
+    a, b = pairs[:, 0], pairs[:, 1]
+    d = np.linalg.norm(xy[a, None, :] - xy[b, None, :], axis=-1)[:, 0]
+    pairs = pairs[d < grow[a] + grow[b]]
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
 
 def colliding_pairs(kin: Kinematics | list[Kinematics], bases: Any, buffers: Any, positions: Any,

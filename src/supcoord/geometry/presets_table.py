@@ -10,6 +10,16 @@ gives the source of each) and are marked ``source``; numbers no source gives are
 | ``desi`` | 10.4 (source) | 3.0 / 3.0 (source, "~3 mm", patrol ~6 mm) | [0, 180] (assumed) | 0.5 (assumed) |
 | ``moons`` | none: a parameter (not in our sources) | 8.0 / 17.0 (source) | [−180, 150] (source) | 2.0 (from the 4 mm minimum fibre approach) |
 | ``pfs`` | 8.0 (source) | 2.4 / 2.4 (source, "~2.4 mm") | [0, 180] (assumed) | 0.5 (assumed) |
+| ``spec-s5`` | 6.2 (source) | 1.788 / 1.788 (assumed: DESI's × 6.2/10.4) | [0, 180] (assumed) | 0.298 (assumed: DESI's × 6.2/10.4) |
+| ``must`` | 6.2 (source) | 1.788 / 1.788 (assumed: DESI's × 6.2/10.4) | [0, 180] (assumed) | 0.298 (assumed: DESI's × 6.2/10.4) |
+| ``wst`` | 7.0 (source, "~7 mm") | 2.019 / 2.019 (assumed: DESI's × 7.0/10.4) | [0, 180] (assumed) | 0.337 (assumed: DESI's × 7.0/10.4) |
+
+The next-generation focal planes publish their robot count and pitch, not their arms: their
+arms and buffer are DESI's scaled by the pitch ratio (the same arms-to-pitch proportion as
+DESI's positioners, which the 6.2 mm prototypes shrink).  :attr:`Preset.rings` is the hex grid
+nearest to the published count (``1 + 3R(R+1)`` robots): Spec-S5 12,852 per focal plane →
+65 rings, 12,871 robots (+19); MUST "more than 20,000" → 82 rings, 20,419 (81 rings give
+19,927, fewer than published); WST 32,000 → 103 rings, 32,137 (+137).
 
 SDSS-V robots park in a *folded lattice* at ``(α, β) = (10°, 170°)`` (kaiju);
 :func:`folded_position` gives the nearest discrete position, and
@@ -32,6 +42,16 @@ Full citations, with DOIs where they exist: ``docs/references.md``.
   closest fibre approach).
 - Subaru PFS: H. Sugai et al., JATIS 1(3), 035001 (2015) (2394 fibres); PFS
   instrumentation pages (Cobra positioners, 8 mm pitch, 9.5 mm patrol diameter).
+- Spec-S5: spec-s5.org, Instrument overview (two 6 m telescopes, 12,852 fibre robots per
+  telescope); the 6.2 mm pitch of the Stage-5 prototypes: arXiv:2508.19711 (Prototyping of
+  6.2-mm-Pitch Fiber Positioner Modules for Stage-V Telescope Instrumentation),
+  arXiv:2606.18909 (a Trillium-based 21-positioner module), arXiv:2606.18915 (a 15-positioner
+  MPS module).
+- MUST: Z. Cai et al., Sci. China Phys. Mech. Astron. 68(9) (2025), doi:10.1007/s11433-025-2725-3
+  (6.5 m, more than 20,000 fibres, 6.2 mm pitch robots, modular focal plane).
+- WST: wstelescope.eu, Instruments (32,000 MOS fibres, ~7 mm centre to centre);
+  S. Pernecker et al., arXiv:2606.18957 (WST MOS Fiber Positioners: Development of a
+  32,000-Unit Precision Robotic System).
 """
 
 from __future__ import annotations
@@ -56,6 +76,8 @@ class Preset:
     buffer: float
     positioners: str
     source: str
+    #: rings of the hex grid nearest the published robot count (``None``: not a full focal plane)
+    rings: int | None = None
 
 
 PRESETS: dict[str, Preset] = {
@@ -73,6 +95,20 @@ PRESETS: dict[str, Preset] = {
     "pfs": Preset("pfs", 8.0, 2.4, 2.4, (0.0, 180.0), 0.5, "2394",
                   "Subaru PFS Cobra (Sugai et al. 2015; PFS instrumentation): 8 mm pitch, ~2.4/2.4 mm "
                   "arms; beta range and buffer 0.5 mm assumed; see docs/references.md"),
+    "spec-s5": Preset("spec-s5", 6.2, 1.788, 1.788, (0.0, 180.0), 0.298, "12,852 per focal plane",
+                      "Spec-S5 (spec-s5.org: 12,852 robots per telescope; 6.2 mm pitch of the Stage-5 "
+                      "prototypes, arXiv:2508.19711); arms and buffer assumed: scaled from DESI's by pitch ratio "
+                      "6.2/10.4; beta range assumed; 65 rings = 12,871 robots, the nearest hex count; see "
+                      "docs/references.md", rings=65),
+    "must": Preset("must", 6.2, 1.788, 1.788, (0.0, 180.0), 0.298, ">20,000",
+                   "MUST (Cai et al. 2025, doi:10.1007/s11433-025-2725-3: more than 20,000 fibres, 6.2 mm pitch); "
+                   "arms and buffer assumed: scaled from DESI's by pitch ratio 6.2/10.4; beta range assumed; "
+                   "82 rings = 20,419 robots, the nearest hex count above 20,000; see docs/references.md",
+                   rings=82),
+    "wst": Preset("wst", 7.0, 2.019, 2.019, (0.0, 180.0), 0.337, "32,000",
+                  "WST (wstelescope.eu; Pernecker et al., arXiv:2606.18957: 32,000 units, ~7 mm centre to centre); "
+                  "arms and buffer assumed: scaled from DESI's by pitch ratio 7.0/10.4; beta range assumed; "
+                  "103 rings = 32,137 robots, the nearest hex count; see docs/references.md", rings=103),
 }
 
 

@@ -8,14 +8,16 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.presets_table import folded_position, get_preset, preset_kinematics
+from ..geometry.layout import hex_count
+from ..geometry.layout_limits import check_robot_count
+from ..geometry.presets_table import Preset, folded_position, get_preset, preset_kinematics
 from .problem import Problem
 from .random import random_problem
 
 __all__ = ["preset_problem"]
 
 
-def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int = 36, beta_steps: int = 19,
+def preset_problem(name: str, rings: int | None = 2, seed: int = 0, *, alpha_steps: int = 36, beta_steps: int = 19,
                    pitch: float | None = None, buffer: float | None = None, start: str = "random",
                    near: int | None = None, priority: str = "random") -> Problem:
     """A random problem on a hex grid of ``rings`` rings of a preset instrument's geometry.
@@ -23,9 +25,13 @@ def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int
     Parameters
     ----------
     name : str
-        The preset: ``"sdss-v"``, ``"desi"``, ``"moons"`` or ``"pfs"`` (case-insensitive).
-    rings : int, default 2
-        Rings of the hex grid around the centre robot (``1 + 3·R·(R+1)`` robots).
+        The preset: ``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``, ``"spec-s5"``, ``"must"`` or
+        ``"wst"`` (case-insensitive).
+    rings : int or None, default 2
+        Rings of the hex grid around the centre robot (``1 + 3·R·(R+1)`` robots), as many as
+        memory allows (:mod:`supcoord.geometry.layout_limits`); ``None``: the preset's whole
+        focal plane (:attr:`~supcoord.geometry.presets_table.Preset.rings`, the next-generation
+        presets).
     seed : int, default 0
         Seed of the random start, target and priority.
     alpha_steps, beta_steps : int
@@ -49,8 +55,9 @@ def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int
     Raises
     ------
     InputError
-        An unknown preset, no pitch for a preset without one, an unknown ``start``, or
-        arguments :func:`~supcoord.problems.random.random_problem` refuses.
+        An unknown preset, no pitch for a preset without one, ``rings`` not a non-negative
+        integer or more robots than memory allows, an unknown ``start``, or arguments
+        :func:`~supcoord.problems.random.random_problem` refuses.
 
     Examples
     --------
@@ -71,9 +78,11 @@ def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int
     pitch = pitch if pitch is not None else p.pitch
     if pitch is None:
         raise InputError(f"preset {p.name!r} has no pitch in our sources: pass pitch=... (mm)", value=name)
+    rings = _rings(p, rings)
     kin = preset_kinematics(name, alpha_steps, beta_steps)
-    layout = {"kind": "hex", "rings": int(rings), "pitch": float(pitch)}
-    n = 1 + 3 * int(rings) * (int(rings) + 1)
+    layout = {"kind": "hex", "rings": rings, "pitch": float(pitch)}
+    n = hex_count(rings)
+    check_robot_count(n, "rings", rings)
     if start == "folded":
         fixed = np.tile(folded_position(kin), (n, 1))
     elif start == "random":
@@ -82,3 +91,15 @@ def preset_problem(name: str, rings: int = 2, seed: int = 0, *, alpha_steps: int
         raise InputError(f"start must be 'random' or 'folded', got {start!r}", value=start)
     return random_problem(layout, kin, p.buffer if buffer is None else buffer, seed, near=near,
                           priority=priority, start=fixed, name=f"{p.name}-r{rings}-s{seed}", preset=p.name)
+
+
+def _rings(preset: Preset, rings: int | None) -> int:
+    """``rings`` as an ``int`` (``None``: the preset's whole focal plane), or a one-line error."""
+    if rings is None:
+        if preset.rings is None:
+            raise InputError(f"preset {preset.name!r} has no whole focal plane in our sources: pass rings=...",
+                             value=None)
+        return preset.rings
+    if isinstance(rings, bool) or not isinstance(rings, (int, np.integer)) or rings < 0:
+        raise InputError(f"rings must be a non-negative integer, got {rings!r:.60}", value=rings)
+    return int(rings)

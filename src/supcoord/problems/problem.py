@@ -13,7 +13,8 @@ Every user mistake raises :class:`~supcoord.errors.FormatError` (wrong type/shap
 does not know (a typo such as ``"prority"``) is not an error but is reported in
 :attr:`Problem.warnings`, which the command line prints on standard error.
 
-An optional top-level ``"preset"`` (``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``;
+An optional top-level ``"preset"`` (``"sdss-v"``, ``"desi"``, ``"moons"``, ``"pfs"``, ``"spec-s5"``,
+``"must"``, ``"wst"``;
 :mod:`supcoord.geometry.presets_table`) fills in what the file leaves out: ``layout.pitch`` (hex layouts),
 ``kinematics.kind`` (``alpha-beta``), ``alpha``, ``beta``, ``beta_range``, and
 ``collision.buffer``; values given in the file win.  The discretisation
@@ -42,6 +43,7 @@ from ..geometry.obstacles import held_tables, obstacle_motion_collides, rule_tab
 from ..geometry.kinematics import Kinematics, kinematics_from_spec
 from ..instruments import CollisionDefinition
 from ..geometry.layout import _short, layout_from_spec
+from ..geometry.layout_limits import check_robot_count
 from ..geometry.segments import segment_distance
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, apply_preset, read_buffers, read_margin, read_obstacles,
                      read_priority, unknown_fields)
@@ -51,12 +53,11 @@ from .targets import (fixed_targets, parse_offline, parse_positions, radian_warn
 from .json_input import read_json
 from .unlock import unlock_lattices, with_lattices
 
-__all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_POSITIONERS", "MAX_PROBLEM_BYTES",
+__all__ = ["Problem", "load_problem", "parse_problem", "read_json", "MAX_PROBLEM_BYTES",
            "KNOWN_FIELDS"]
 
-#: refuse problems bigger than this (a typo such as rings = 600 should not eat the memory)
-MAX_POSITIONERS = 20_000
-#: largest PROBLEM.json read (bytes): 20,000 positioners with every field take about 2 MB
+#: largest PROBLEM.json read (bytes): 32,761 positioners with every field take about 4 MB; how
+#: many robots a problem may have is set by memory (:mod:`supcoord.geometry.layout_limits`)
 MAX_PROBLEM_BYTES = 64 * 2**20
 
 
@@ -406,8 +407,7 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
     setup = instrument_setup(layout_spec, data, where) if instrument else None
     bases = setup.bases if setup else layout_from_spec(layout_spec, where)
     n = len(bases)
-    if n > MAX_POSITIONERS:
-        raise InputError(f"layout has {n} positioners, more than the supported {MAX_POSITIONERS}", value=n, where=where)
+    check_robot_count(n, "layout", f"{n} positioners", where)
     kin = setup.kinematics if setup else kinematics_from_spec(data["kinematics"], where)
     collision = data.get("collision", {} if setup else None)
     if setup and isinstance(collision, dict):  # the instrument's own definition where the file is silent

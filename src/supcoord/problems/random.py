@@ -32,43 +32,106 @@ from .problem import Problem, parse_problem
 __all__ = ["random_configuration", "random_problem"]
 
 
+#: distances within this of a threshold (mm) are recomputed where the robots stand, as the
+#: draw always computed them (a column's numbers come from the pair's offset, rounded)
+BORDER = 1e-4
+#: offsets are rounded to this (mm) to name a column of distances
+_OFFSET_STEP = 1e-7
+#: most distances kept by the columns of one draw (8 bytes each)
+_COLUMN_ENTRIES = 2**24
+
+
+class _Columns:
+    """Distances from a robot's every position to one neighbour's segment, by the neighbour's
+    offset (rounded to :data:`_OFFSET_STEP`) and position: the robots of a grid share a few
+    offsets, so a draw of ``N`` robots computes a few hundred columns instead of ``N``.
+
+    ``offsets`` ``(P, 2)`` are the pairs' offsets (mm) in the order :meth:`distances` is given them."""
+
+    def __init__(self, local: np.ndarray, offsets: np.ndarray) -> None:
+        self.local = local
+        steps = np.round(offsets / _OFFSET_STEP).astype(np.int64).reshape(-1, 2)
+        unique, self.offset_id = np.unique(steps, axis=0, return_inverse=True)
+        self.offset_id = self.offset_id.reshape(-1)
+        self.offsets = unique * _OFFSET_STEP
+        self.rows: dict[int, int] = {}
+        self.store = np.zeros((64, len(local)))
+
+    def distances(self, pairs: np.ndarray, nb_positions: np.ndarray) -> np.ndarray:
+        """``(C, K)``: from each position of a robot to the segments of its ``K`` neighbours
+        (``pairs``: their rows of ``offsets``) at position numbers ``nb_positions`` (mm)."""
+        c = len(self.local)
+        if len(self.rows) * c > _COLUMN_ENTRIES:
+            self.rows.clear()
+        oid = self.offset_id[pairs]
+        keys = (oid * c + nb_positions).tolist()
+        todo = [i for i, key in enumerate(keys) if key not in self.rows]
+        if todo:
+            seg = self.local[nb_positions[todo]] + self.offsets[oid[todo]][:, None, :]
+            d = segment_distance(self.local[:, None, 0], self.local[:, None, 1], seg[:, 0], seg[:, 1])
+            first = len(self.rows)
+            if first + len(todo) > len(self.store):
+                self.store = np.concatenate([self.store, np.zeros((len(self.store) + len(todo), c))])
+            for col, i in enumerate(todo):
+                self.rows[keys[i]] = first + col
+            self.store[first:first + len(todo)] = d.T
+        return self.store[[self.rows[key] for key in keys]].T
+
+
 def random_configuration(kin: Kinematics, bases: Any, buffers: Any, rng: np.random.Generator,
                          allowed: np.ndarray | None = None, attempts: int = 100) -> np.ndarray:
     """A collision-free configuration ``(N, J)`` (module docstring).
 
-    ``allowed`` (``(N, n_positions)`` bool) restricts each positioner's choices.
+    ``allowed`` (``(N, n_positions)`` bool) restricts each positioner's choices.  The
+    distances to the neighbours placed before come from columns shared between robots of
+    equal offset (:class:`_Columns`); the few within :data:`BORDER` of their threshold are
+    recomputed where the robots stand, so the draw is the one of the robots' own numbers.
     """
     bases = np.asarray(bases, float)
     n = len(bases)
     buffers = np.broadcast_to(np.asarray(buffers, float), (n,))
     pairs = neighbour_pairs(bases, kin.reach, buffers)
-    earlier: list[list[int]] = [[] for _ in range(n)]
-    for a, b in pairs:
-        earlier[int(b)].append(int(a))  # a < b: a is placed before b
+    pairs = pairs[np.argsort(pairs[:, 1], kind="stable")]  # a < b: a is placed before b
+    split = np.searchsorted(pairs[:, 1], np.arange(n + 1))
     positions = kin.all_positions()
     local = kin.segments(positions)  # (C, 2, 2) relative to the base
+    columns = _Columns(local, bases[pairs[:, 0]] - bases[pairs[:, 1]])
     for _ in range(attempts):
         conf = np.zeros((n, kin.n_joints), dtype=int)
-        seg = np.zeros((n, 2, 2))
+        chosen = np.zeros(n, dtype=int)
         ok = True
         for p in range(n):
             free = np.ones(len(positions), dtype=bool) if allowed is None else allowed[p].copy()
-            mine = local + bases[p]
-            if earlier[p]:
-                nb = np.array(earlier[p])
-                d = segment_distance(mine[:, None, 0], mine[:, None, 1], seg[nb, 0], seg[nb, 1])  # (C, K)
-                free &= np.all(d >= buffers[p] + buffers[nb], axis=1)
+            if split[p + 1] > split[p]:
+                rows = np.arange(split[p], split[p + 1])
+                nb = pairs[rows, 0]
+                need = buffers[p] + buffers[nb]
+                d = columns.distances(rows, chosen[nb])
+                border = np.nonzero(np.abs(d - need) < BORDER)
+                if len(border[0]):
+                    d[border] = _exact(kin, local, bases, p, nb[border[1]], positions[chosen[nb[border[1]]]],
+                                       border[0])
+                free &= np.all(d >= need, axis=1)
             choices = np.nonzero(free)[0]
             if len(choices) == 0:
                 ok = False
                 break
             k = int(rng.choice(choices))
+            chosen[p] = k
             conf[p] = positions[k]
-            seg[p] = placed_segments(kin, bases[p], positions[k])
         if ok:
             return conf
     raise InputError(f"could not draw a collision-free configuration in {attempts} attempts "
                      f"(the layout is too dense for these arms and buffers)", value=attempts)
+
+
+def _exact(kin: Kinematics, local: np.ndarray, bases: np.ndarray, p: int, nb: np.ndarray, nb_positions: np.ndarray,
+           mine: np.ndarray) -> np.ndarray:
+    """Distances (mm) from robot ``p`` at position numbers ``mine`` to neighbours ``nb`` at
+    ``nb_positions``, each segment placed at its own base."""
+    a = local[mine] + bases[p]
+    b = np.stack([placed_segments(kin, bases[q], pos) for q, pos in zip(nb, nb_positions)])
+    return segment_distance(a[:, 0], a[:, 1], b[:, 0], b[:, 1])
 
 
 def random_problem(layout: Any, kinematics: Any, buffer: float = 2.0, seed: int = 0, *,

@@ -135,7 +135,7 @@ KINDS: dict[str, dict[str, tuple[Callable[[Any], Any], Any]]] = {
         "alpha_steps": (_optional(_int(2)), None), "beta_steps": (_optional(_int(2)), None),
         "start": (_optional(_choice("random", "folded")), None),
         "route": (_choice("local", "monolithic"), "local"), "order": (_optional(_choice("rcm", "hex")), None),
-        "improve": (_optional(_number()), None), "validate": (_bool, True),
+        "improve": (_optional(_int(0)), None), "validate": (_bool, True),
     },
     "supcon": {"family": (_choice(*FAMILY_NAMES), REQUIRED), "size": (_int(1), REQUIRED),
                "method": (_choice(*SUPCON_METHODS), "saturation")},
