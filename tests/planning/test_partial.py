@@ -170,3 +170,27 @@ def test_a_budget_ending_during_the_search_names_the_undecided_robots():
 
     plan = Plan("partial", found.plan.configurations, 0, 0, off_target=found.off_target)
     assert validate_plan(p, plan)["valid"]
+
+
+@pytest.mark.parametrize("speed", [None, 10.0])
+def test_solve_answers_partial_when_the_budget_ends_while_robots_are_left_out(monkeypatch, speed):
+    """The first solve certifies; every later one runs out of budget: the plan in which
+    nothing moves, valid, with the first choice's certificate and 'not proven: budget'."""
+    import supcoord.planning.planner as planner
+
+    calls = []
+    first = planner._solve
+
+    def out_of_budget_after_the_first(*args, **kwargs):
+        calls.append(1)
+        if len(calls) > 1:
+            raise BudgetExceeded("time budget exceeded")
+        return first(*args, **kwargs)
+
+    monkeypatch.setattr(planner, "_solve", out_of_budget_after_the_first)
+    p = parse_problem(TRIANGLE)
+    plan = planner.solve(p, speed=speed)
+    assert plan.status == "partial" and plan.on_target == 0 and plan.optimal is False
+    assert plan.stats["partial"]["method"] == "budget" and len(plan.configurations) == 1
+    assert sorted(e.reason == BUDGET_REASON for e in plan.off_target) == [False, True, True]
+    assert validate_plan(p, plan)["valid"]
