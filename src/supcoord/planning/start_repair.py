@@ -329,17 +329,20 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     fixed = repair_start(problem)
     rest = planner.solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route=route, **options)
     rest.stats = dict(rest.stats, repair=fixed.repair.to_json(), repair_seconds=time.perf_counter() - t0)
-    if rest.status != "complete" or rest.lattice is not None:
-        if rest.status == "complete":  # planned on a finer lattice: the repair's positions are not on it
-            return Plan("unknown", [], None, lower_bound(problem), [], "the repaired start needs a finer lattice, "
-                        "to which the repair phase is not carried over", rest.stats)
+    if rest.lattice is not None and rest.configurations:  # planned on a finer lattice: the repair's positions are not on it
+        return Plan("unknown", [], None, lower_bound(problem), [], "the repaired start needs a finer lattice, "
+                    "to which the repair phase is not carried over", rest.stats)
+    if rest.status not in ("complete", "partial"):
         rest.reason = f"after repairing the start (robots {list(fixed.repair.moved)} moved): {rest.reason}"
         return rest
     kin = problem.kinematics
     confs = fixed.configurations + rest.configurations[1:]
     events = [event_name(kin, *m) for m in fixed.moves] + list(rest.events)
-    plan = Plan("complete", confs, len(confs) - 1, lower_bound(problem), events, "", rest.stats, repair=fixed.repair)
+    # a partial plan keeps its robots off target (they end at the repaired start)
+    plan = dataclasses.replace(rest, configurations=confs, makespan=len(confs) - 1, events=events, angles_deg=[],
+                               lower_bound=int(kin.joint_distance(problem.start, confs[-1]).max()),
+                               repair=fixed.repair)
     check = validate_plan(problem, plan)
-    if not check["valid"]:
-        raise ModelError(f"the plan from the repaired start fails validation: {check['problems'][:2]}")
+    if not check.valid:
+        raise ModelError(f"the plan from the repaired start fails validation: {check.problems[:2]}")
     return plan

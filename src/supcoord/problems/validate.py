@@ -91,6 +91,7 @@ import numpy as np
 
 from ..errors import InputError
 from .consistency import check_problem, plan_defects
+from .off_target import OffTarget, partial_end
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
@@ -289,6 +290,9 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
             return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
     if plan.repair is not None:  # from a colliding start: the repair phase, then a plan from its end
         return _validate_repaired(problem, plan, resolution)
+    whole = problem
+    if plan.status == "partial":  # checked as a complete plan of the problem ending where it says
+        problem = _partial_problem(problem, plan, problems)
     motion = _read_motion(problem, plan, problems)
     if isinstance(motion, ValidationResult):  # refused: the result says why
         return motion
@@ -305,6 +309,8 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
                                                 problems)
         if alone is not None:
             at_target, n_steps = alone
+    if problem is not whole:  # robots at their own targets, not at the ends the partial plan lists
+        at_target = _at_whole_target(whole, problem, confs, at_target)
     result = _result(not problems, found.collisions, at_target, problems, n_steps, found.clearance, found.incidents,
                      (found.undecided, found.depth))
     if trajs is not None:
@@ -312,7 +318,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
     return result
 
 
-def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> dict[str, Any]:
+def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> ValidationResult:
     """A plan with a repair phase ``c_0 … c_k`` (:mod:`.validate_repair`), then ``c_k … c_T``
     checked as a plan from ``c_k``; the events and makespan over the whole plan."""
     problems: list[str] = []
@@ -340,18 +346,42 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> dict[
         return a0, problem.angles_deg(confs[j] + _step_delta(confs[j], confs[j + 1], steps, wraps, j, problems)) - a0
 
     fixed = check_repair_phase(problem, _bases(problem, problems), plan.repair.moved, k + 1, step, resolution, problems)
-    tail = Plan(plan.status, confs[k:], len(confs) - 1 - k, None, [], plan.reason, {},
-                list(plan.angles_deg[k:]), None, None, plan.lattice)
+    tail = replace(plan, configurations=confs[k:], makespan=len(confs) - 1 - k, lower_bound=None, events=[],
+                   stats={}, angles_deg=list(plan.angles_deg[k:]), trajectories=None, motion_time_s=None, repair=None)
     rest = validate_plan(dataclasses.replace(problem, start=confs[k]), tail, resolution)
-    problems += [f"after the repair phase (step {k} on): {p}" for p in rest["problems"]]
+    problems += [f"after the repair phase (step {k} on): {p}" for p in rest.problems]
     if plan.events:
         _check_events(kin.kind, plan.events, problem.start, confs[-1], steps, wraps, problems)
     if plan.makespan is not None and plan.makespan != len(confs) - 1:
         problems.append(f"makespan is {plan.makespan} but the plan has {len(confs) - 1} steps")
-    clearance = min(fixed.clearance, rest["min_clearance"] if rest["min_clearance"] is not None else math.inf)
-    return _result(not problems, fixed.collisions + rest["collisions"], rest["at_target"], problems, len(confs) - 1,
-                   clearance, [dict(i, step=i["step"] + k) for i in rest["incidents"]], (fixed.undecided + rest["undecided"],
-                                                  max(fixed.depth, rest["undecided_depth"])))
+    clearance = min(fixed.clearance, rest.min_clearance if rest.min_clearance is not None else math.inf)
+    incidents = [dict(i, step=i["step"] + k) for i in rest.incidents]
+    return _result(not problems, fixed.collisions + rest.collisions, rest.at_target, problems, len(confs) - 1,
+                   clearance, incidents, (fixed.undecided + rest.undecided, max(fixed.depth, rest.undecided_depth)))
+
+
+def _partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Problem:
+    """The problem a ``partial`` plan solves completely: ``problem`` with each robot listed in
+    ``off_target`` ending at its start (:func:`~.off_target.partial_end`); a list that names
+    no robot, or one robot twice, is a problem of the plan."""
+    entries = plan.off_target
+    robots = [e.robot for e in entries if isinstance(e, OffTarget)]
+    if (len(robots) != len(entries) or not robots or len(set(robots)) != len(robots)
+            or not all(isinstance(r, (int, np.integer)) and 0 <= r < problem.n for r in robots)):
+        problems.append(f"a partial plan must list each robot off target once, by index in [0, {problem.n}), "
+                        f"got {len(entries)} entries")
+        return problem
+    return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries)))
+
+
+def _at_whole_target(whole: Problem, ends: Problem, confs: list[np.ndarray], at_ends: int) -> int:
+    """The robots at their own targets at the end of a partial plan that ended ``at_ends``
+    robots where ``ends`` says (exact for configurations; for angles, of a plan that ends
+    where it says)."""
+    if confs:
+        return int(np.sum(np.all(confs[-1] == whole.target, axis=1)))
+    moved = np.any(ends.target != whole.target, axis=1)
+    return int(at_ends - np.sum(moved))
 
 
 def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:
@@ -420,7 +450,7 @@ def _read_motion(problem: Problem, plan: Plan, problems: list[str]) -> _Motion |
                         f"{[j.name for j in problem.kinematics.joints]}, each a non-empty list of [t_s, deg] in "
                         f"increasing time: a plan for another problem?")
         return _result(False, 0, 0, problems, 0, None)
-    if plan.status != "complete":
+    if plan.status not in ("complete", "partial"):
         problems.append(f"plan status is {plan.status!r}" + (f": {plan.reason}" if plan.reason else ""))
     if not motion.confs and not motion.poses and motion.trajs is None:
         problems.append("the plan has no configurations")
