@@ -1,6 +1,8 @@
 """``supcoord solve PROBLEM.json [--out PLAN.json] [--figure FILE] [--json]``: plan a problem.
 
 Prints the PLAN.json object (``docs/formats.md``): ``complete`` with a validated plan,
+``partial`` where no plan puts every robot on its target (the most robots on target, the
+others named with a reason; exit 0; ``--require-all``: ``infeasible`` instead),
 ``infeasible`` with a ``reason`` naming the positioners (exit 0: an answer), or — when
 ``--max-nodes``/``--timeout`` run out — ``unknown`` with the statistics so far (exit 3).
 A missing or malformed problem, or a start/target that itself collides, exits 2.
@@ -74,6 +76,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-refine", action="store_true",
                    help="answer with the lattice's single-move certificate (default: on problems too large for the "
                         "simultaneous search, solve once more on a lattice with steps 2/3 as long)")
+    p.add_argument("--require-all", action="store_true",
+                   help="answer complete or infeasible only (default: where no plan puts every robot on its target, "
+                        "a partial plan with the most robots on target, the others named with a reason)")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -134,7 +139,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     plan = solve(problem, route=route_named(args.route, args.order), backend=args.backend, budget=budget,
                  progress=console.progress, speed=speed, improve=improve,
                  simultaneous=None if args.single_move_only else Simultaneous(),
-                 finer=None if args.no_refine else FinerLattice())
+                 finer=None if args.no_refine else FinerLattice(),
+                 when_incomplete="infeasible" if args.require_all else "partial")
     if args.out:
         with as_option("--out"):
             plan.dump(args.out, problem)
@@ -209,6 +215,10 @@ def _check_jaeger_limits(problem, args: argparse.Namespace) -> None:
 
 def _summary(problem, plan, speed: float | None) -> str:
     """The answer in words: the plan's size and work, or the verdict and its reason."""
+    if plan.status == "partial":
+        return (f"PARTIAL: {plan.reason}\n" + ("the most robots on target the discretised model allows"
+                                               if plan.optimal else f"at most {plan.on_target_bound} could be on target")
+                + f"; makespan {plan.makespan}, {plan.stats.get('seconds', 0):.2f} s")
     if plan.status != "complete":
         return f"{plan.status.upper()}: {plan.reason}"
     s = plan.stats

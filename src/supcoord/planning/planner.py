@@ -34,12 +34,14 @@ import numpy as np
 from ..bdd.context import Budget
 from ..errors import BudgetExceeded, InputError
 from ..problems.consistency import check_problem
+from ..problems.off_target import partial_summary
 from ..problems.plan import Plan, event_name, lower_bound, reversed_moves
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from .improve import improve_plan
+from .partial import WHEN_INCOMPLETE, PartialResult, partial_search, reduced_problem
 from .move_layers import MoveLayers, move_layers, witness_moves  # noqa: F401  (old import path: positioners.planner)
 from .model import CoordinationModel
 from .routes import (ROUTES, SIMULTANEOUS_JOINTS, SIMULTANEOUS_NODES, SIMULTANEOUS_TABLE,  # noqa: F401
@@ -50,7 +52,7 @@ from .solve_stats import Refined, SolveStats
 from .windows import Certificate
 
 __all__ = ["ROUTES", "solve", "solve_window", "WindowResult", "Local", "Monolithic", "Simultaneous", "FinerLattice",
-           "VALIDATIONS", "Solved"]
+           "VALIDATIONS", "Solved", "WHEN_INCOMPLETE"]
 
 #: what checks a plan before it is returned: ``"independent"`` the independent validator
 #: (:func:`~supcoord.problems.validate.validate_plan`), ``"none"`` nothing (for studies that
@@ -79,6 +81,8 @@ class Solved:
 
     plan: Plan
     stats: SolveStats
+    #: the single-move certificate behind an ``infeasible`` plan (None otherwise)
+    certificate: Certificate | None = None
 
 
 @dataclass
@@ -258,7 +262,10 @@ def _solve(problem: Problem, settings: _Settings, budget: Budget) -> Solved:
         assert found.certificate is not None
         certificate = found.certificate
         del runner, found  # the route's models and windows: memory the finer lattice needs
-        return _certified(problem, settings, budget, stats, certificate, t0)
+        solved = _certified(problem, settings, budget, stats, certificate, t0)
+        if solved.plan.status == "infeasible":
+            solved.certificate = certificate
+        return solved
     return _checked(problem, settings, _scheduled(problem, settings, found, stats), stats, t0)
 
 
@@ -287,8 +294,10 @@ def _settings(route: Route | str, backend: str, progress: Callable | None, impro
 def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | None = None,
           backend: str = "auto", progress: Callable | None = None, improve: int | None = None,
           speed: float | None = None, simultaneous: Simultaneous | None = Simultaneous(),
-          finer: FinerLattice | None = FinerLattice(), validation: str = "independent") -> Plan:
-    """Solve ``problem``: a ``complete`` plan (validated), or ``infeasible`` with a reason.
+          finer: FinerLattice | None = FinerLattice(), validation: str = "independent",
+          when_incomplete: str = "partial") -> Plan:
+    """Solve ``problem``: a ``complete`` plan (validated), else a ``partial`` one (the most
+    robots on target, the others named with a reason) or ``infeasible`` with a reason.
 
     The route finds a single-move plan or a certificate; the plan is scheduled, shortened and
     validated; after a certificate the finer lattice and the simultaneous model may still hold
@@ -319,13 +328,19 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
         search (None: not tried).
     validation : str, default "independent"
         One of :data:`VALIDATIONS`.
+    when_incomplete : str, default "partial"
+        What to answer where no plan puts every robot on its target (one of
+        :data:`~.partial.WHEN_INCOMPLETE`): ``"partial"`` a plan with the most robots on target
+        that the search of :mod:`.partial` finds, each robot off target ending at its start;
+        ``"infeasible"`` the verdict and its certificate.
 
     Returns
     -------
     Plan
         ``"complete"`` (``configurations`` in lattice positions, ``makespan`` in steps,
-        ``events`` the single-move witness) or ``"infeasible"`` (``reason``,
-        ``stats["certificate"]``).  The routes taken: ``stats["route"]``, ``stats["refined"]``
+        ``events`` the single-move witness), ``"partial"`` (the same, plus ``off_target``,
+        ``on_target``, ``optimal``, ``on_target_bound`` and ``stats["partial"]``) or
+        ``"infeasible"`` (``reason``, ``stats["certificate"]``).  The routes taken: ``stats["route"]``, ``stats["refined"]``
         (the finer lattice), ``stats["plan_model"]`` (``"simultaneous"``: that search's plan).
 
     Raises
@@ -356,12 +371,75 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
     ('complete', 'local', 18, True)
     >>> solve(p, Monolithic(fixpoint="search"), improve=0).stats["single_moves"]
     18
+    >>> q = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [9, 15]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]})
+    >>> plan = solve(q)
+    >>> plan.status, plan.on_target, plan.optimal, [e.robot for e in plan.off_target]
+    ('partial', 2, True, [0])
+    >>> solve(q, when_incomplete="infeasible").status
+    'infeasible'
     """
+    t0 = time.perf_counter()
     check_problem(problem)  # a Problem, and still consistent (a field replaced after parsing is refused)
     settings = _settings(route, backend, progress, improve, speed, simultaneous, finer, validation)
-    solved = _solve(problem, settings, budget or Budget())
+    if when_incomplete not in WHEN_INCOMPLETE:
+        raise InputError(f"when_incomplete must be one of {', '.join(WHEN_INCOMPLETE)}, got {when_incomplete!r}",
+                         value=when_incomplete, where="when_incomplete")
+    budget = budget or Budget()
+    solved = _solve(problem, settings, budget)
     solved.plan.stats = solved.stats.to_json()
+    if solved.certificate is not None and when_incomplete == "partial":
+        return _partial(problem, settings, budget, solved, t0)
     return solved.plan
+
+
+def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Solved, t0: float) -> Plan:
+    """After the infeasible ``verdict``: the partial plan (:func:`.partial.partial_search`,
+    each sub-problem by the route alone, single moves, no improvement), its robots off target
+    then planned once more as asked (improvement, speed) and the plan validated whole."""
+    quick = replace(settings, improve=0, speed=None, simultaneous=None, finer=None, validation="none")
+
+    def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
+        solved = _solve(sub, quick, budget)
+        if solved.certificate is None:
+            return solved.plan
+        return sorted(int(m) for m in solved.certificate.members), solved.certificate.how
+
+    assert verdict.certificate is not None
+    found = partial_search(problem, list(verdict.certificate.members), verdict.certificate.how, attempt,
+                           settings.progress)
+    plan, stats = _final_plan(problem, settings, budget, found), dict(verdict.plan.stats)
+    stats.update({k: v for k, v in plan.stats.items() if k not in stats})
+    stats.update(partial=found.stats.to_json(), seconds=time.perf_counter() - t0)
+    out = Plan("partial", plan.configurations, plan.makespan, plan.lower_bound, plan.events,
+               partial_summary(problem.n, found.on_target, found.off_target), stats, plan.angles_deg,
+               plan.trajectories, plan.motion_time_s, None, found.off_target, found.on_target, found.optimal,
+               found.on_target_bound)
+    if settings.validation == "independent":
+        _phase(settings.progress, "validate", steps=len(out.configurations) - 1)
+        result = validate_plan(problem, out)
+        if not result["valid"]:
+            raise RuntimeError(f"internal error: the planner's partial plan fails validation: {result['problems'][:3]}")
+        out.stats["min_clearance"] = result["min_clearance"]
+    return out
+
+
+def _final_plan(problem: Problem, settings: _Settings, budget: Budget, found: PartialResult) -> Plan:
+    """The plan of the robots off target ``found``: planned again with the improvement and speed
+    asked for where the search's own plan had neither (its plan if the budget ends first)."""
+    off = frozenset(e.robot for e in found.off_target)
+    reduced = reduced_problem(problem, off)
+    if found.stats.method != "budget" and (settings.improve != 0 or settings.speed is not None):
+        try:
+            solved = _solve(reduced, replace(settings, simultaneous=None, finer=None, validation="none"), budget)
+            if solved.plan.status == "complete":
+                solved.plan.stats = solved.stats.to_json()
+                return solved.plan
+        except BudgetExceeded:
+            pass  # the search's own plan, unimproved
+    plan = with_motion(replace(found.plan, stats=dict(found.plan.stats)), reduced, settings.speed)
+    return plan
 
 
 def _phase(progress: Callable | None, stage: str, **info: Any) -> None:

@@ -10,6 +10,8 @@ field and the value; :func:`unknown_fields` turns typos into warnings.
 
 from __future__ import annotations
 
+import math
+
 from typing import Any
 
 import numpy as np
@@ -29,7 +31,8 @@ MAX_OBSTACLES = 100_000
 EXTRA_FIELDS = ("name", "description", "comment", "preset", "seed")
 #: every field of the format, by object (``kinematics`` by kind); keys starting with "_" are comments
 KNOWN_FIELDS = {
-    "": ("layout", "kinematics", "collision", "start", "target", "priority", "offline", "fibre") + EXTRA_FIELDS,
+    "": ("layout", "kinematics", "collision", "start", "target", "priority", "weight", "offline",
+         "fibre") + EXTRA_FIELDS,
     "layout/hex": ("kind", "rings", "pitch"),
     "layout/points": ("kind", "xy", "obstacles"),
     "layout/instrument": LAYOUT_FIELDS,
@@ -102,6 +105,21 @@ def read_priority(value: Any, n: int, where: str | None) -> list[int]:
         if not _is_int(v):
             raise FormatError(f"priority[{i}] must be an integer, got {_short(v)}", value=v, where=where)
     return [int(v) for v in value]
+
+
+def read_weight(value: Any, n: int, where: str | None) -> tuple[float, ...] | None:
+    """``weight``: one finite number >= 0 per robot, what its target is worth (larger = more
+    worth keeping on target when not every robot can reach its target), or None (absent)."""
+    if value is None:
+        return None
+    if not isinstance(value, list) or len(value) != n:
+        got = f"{len(value)} entries" if isinstance(value, list) else _short(value)
+        raise FormatError(f"weight must be a list of {n} numbers >= 0 (larger = more worth keeping on target), got "
+                          f"{got}", value=value, where=where)
+    for i, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+            raise FormatError(f"weight[{i}] must be a finite number >= 0, got {_short(v)}", value=v, where=where)
+    return tuple(float(v) for v in value)
 
 
 def apply_preset(data: dict, where: str | None) -> dict:

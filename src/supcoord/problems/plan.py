@@ -40,13 +40,14 @@ from ..progress import summary_html, summary_repr
 from ..geometry.collision import DEFAULT_TOL, robots_motion_collides
 from ..geometry.kinematics import MAX_POSITIONS, Kinematics, _is_int
 from ..geometry.layout import _short
+from .off_target import OffTarget, off_target_to_json, parse_off_target
 from .problem import Problem, read_json
 from .trajectory import check_speed, motion_to_json, parse_motion_fields, wrapped_angles, with_motion
 
 __all__ = ["MAX_PLAN_BYTES", "MAX_PLAN_POSITIONS", "Plan", "Move", "lower_bound", "event_name", "parse_event", "checked_step", "apply_moves", "reversed_moves", "exchanged",
            "compact_moves", "plan_from_moves", "load_plan", "parse_plan", "STATUSES"]
 
-STATUSES = ("complete", "infeasible", "unknown")
+STATUSES = ("complete", "infeasible", "unknown", "partial")
 #: largest PLAN.json read (bytes) and most positions in it (configurations × positioners)
 MAX_PLAN_BYTES = 256 * 2**20
 MAX_PLAN_POSITIONS = 20_000_000
@@ -98,6 +99,14 @@ class Plan:
     #: the joints' numbers of positions the configurations index where ``solve`` planned on a
     #: finer lattice than the problem's (:mod:`.refine`); None: the problem's own
     lattice: tuple[int, ...] | None = None
+    #: a ``partial`` plan's robots off target (:mod:`.off_target`); empty for the other statuses
+    off_target: tuple[OffTarget, ...] = ()
+    #: a ``partial`` plan: how many robots end at their targets, whether that is proven the most
+    #: (the least total weight off target) the discretised model allows, and the most that could
+    #: be on target (an upper bound; equal to ``on_target`` where ``optimal``); None otherwise
+    on_target: int | None = None
+    optimal: bool | None = None
+    on_target_bound: int | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -152,6 +161,9 @@ class Plan:
         out.update(motion_to_json(self))
         if self.lattice is not None:
             out["lattice"] = [int(s) for s in self.lattice]
+        if self.status == "partial":
+            out.update(off_target=off_target_to_json(self.off_target), on_target=self.on_target,
+                       optimal=self.optimal, on_target_bound=self.on_target_bound)
         if problem is not None:  # the collision definition the plan was made and checked under
             out["collision"] = problem.collision_statement()
         return out
@@ -202,8 +214,34 @@ def parse_plan(data: Any, problem: Problem, where: str | None = None) -> Plan:
                                     and all(_is_int(s) and 2 <= s <= MAX_POSITIONS for s in lattice)):
         raise FormatError(f"lattice must list {n_joints} numbers of positions in [2, {MAX_POSITIONS}], got "
                           f"{_short(lattice)}", value=lattice, where=where)
-    return Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
+    plan = Plan(status, out, ints["makespan"], ints["lower_bound"], events, reason, stats, angles, trajectories,
                 motion, None if lattice is None else tuple(int(s) for s in lattice))
+    if status == "partial" or data.get("off_target"):
+        _partial_fields(plan, data, problem.n, where)
+    return plan
+
+
+def _partial_fields(plan: Plan, data: dict, n: int, where: str | None) -> None:
+    """A partial plan's ``off_target`` (at least one robot), ``on_target``, ``optimal`` and
+    ``on_target_bound``, checked and set on ``plan``; refused on a plan of another status."""
+    if plan.status != "partial":
+        raise FormatError(f"off_target is only for a partial plan, not a {plan.status} one", value=plan.status,
+                          where=where)
+    plan.off_target = parse_off_target(data.get("off_target"), n, where)
+    if not plan.off_target:
+        raise FormatError("a partial plan must list its robots off target (off_target is empty)", value=None,
+                          where=where)
+    on, bound, optimal = data.get("on_target"), data.get("on_target_bound"), data.get("optimal")
+    if on is not None and not (_is_int(on) and 0 <= on <= n):
+        raise FormatError(f"on_target must be an integer in [0, {n}] or null, got {_short(on)}", value=on, where=where)
+    if bound is not None and not (_is_int(bound) and (on or 0) <= bound <= n):
+        raise FormatError(f"on_target_bound must be an integer in [on_target, {n}] or null, got {_short(bound)}",
+                          value=bound, where=where)
+    if optimal is not None and not isinstance(optimal, bool):
+        raise FormatError(f"optimal must be true, false or null, got {_short(optimal)}", value=optimal, where=where)
+    plan.on_target = None if on is None else int(on)
+    plan.on_target_bound = None if bound is None else int(bound)
+    plan.optimal = optimal
 
 
 def _configurations(confs: Any, problem: Problem, where: str | None) -> list[np.ndarray]:

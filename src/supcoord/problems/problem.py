@@ -44,7 +44,7 @@ from ..instruments import CollisionDefinition
 from ..geometry.layout import _short, layout_from_spec
 from ..geometry.segments import segment_distance
 from .fields import (EXTRA_FIELDS, KNOWN_FIELDS, apply_preset, read_buffers, read_margin, read_obstacles,
-                     read_priority, unknown_fields)
+                     read_priority, read_weight, unknown_fields)
 from .instrument import definition_kept, instrument_collision, instrument_setup, problem_fibre
 from .targets import parse_offline, parse_positions, radian_warnings, robot_lattices, with_angles
 from .json_input import read_json
@@ -102,6 +102,8 @@ class Problem:
     #: the collision definition the buffers and margins are (an instrument's own, e.g. SDSS-V's
     #: ``"sdss-v kaiju"``), or ``None`` (the file's own numbers)
     collision_definition: CollisionDefinition | None = field(default=None, repr=False)
+    #: what each robot's target is worth (``weight`` in PROBLEM.json), or None: every target alike
+    weight: tuple[float, ...] | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         # read-only arrays: nothing changes a problem in place behind its caches (.consistency)
@@ -309,6 +311,8 @@ class Problem:
                     ang[..., 0] %= 360.0
                 out[name] = {"alpha_beta_deg": ang.tolist()}
         out["priority"] = [int(p) for p in self.priority]
+        if self.weight is not None:
+            out["weight"] = [float(w) for w in self.weight]
         if self.held:
             ang = self.angles_deg(self.start)
             out["offline"] = {str(p): [float(v) for v in ang[p]] for p in sorted(self.held)}
@@ -427,7 +431,8 @@ def _parse_problem(data: Any, where: str | None, check_collisions: bool) -> Prob
                       obstacle_margin=obstacle_margin,
                       held={p: tuple(int(v) for v in start[p]) for p in held},
                       joint_rules=setup.joint_rules if setup else {},
-                      collision_definition=definition_kept(setup, buffers, margin, obstacle_margin) if setup else None)
+                      collision_definition=definition_kept(setup, buffers, margin, obstacle_margin) if setup else None,
+                      weight=read_weight(data.get("weight"), n, where))
     # robots their obstacles would lock in on a coarse lattice get a finer one (.unlock)
     problem = with_lattices(problem, unlock_lattices(problem))
     if check_collisions:

@@ -77,13 +77,14 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable
 
 import numpy as np
 
 from ..errors import InputError
 from .consistency import check_problem, plan_defects
+from .off_target import OffTarget, partial_end
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
@@ -222,6 +223,9 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
             problem = at_lattice(problem, plan.lattice)
         except InputError as exc:
             return _result(False, 0, 0, [exc.one_line()], max(0, len(plan.configurations) - 1), None)
+    whole = problem
+    if plan.status == "partial":  # checked as a complete plan of the problem ending where it says
+        problem = _partial_problem(problem, plan, problems)
     motion = _read_motion(problem, plan, problems)
     if isinstance(motion, dict):  # refused: the result says why
         return motion
@@ -238,11 +242,37 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> dic
                                                 problems)
         if alone is not None:
             at_target, n_steps = alone
+    if problem is not whole:  # robots at their own targets, not at the ends the partial plan lists
+        at_target = _at_whole_target(whole, problem, confs, at_target)
     result = _result(not problems, found.collisions, at_target, problems, n_steps, found.clearance, found.incidents,
                      (found.undecided, found.depth))
     if trajs is not None:
         result["motion_time_s"] = end
     return result
+
+
+def _partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Problem:
+    """The problem a ``partial`` plan solves completely: ``problem`` with each robot listed in
+    ``off_target`` ending at its start (:func:`~.off_target.partial_end`); a list that names
+    no robot, or one robot twice, is a problem of the plan."""
+    entries = plan.off_target
+    robots = [e.robot for e in entries if isinstance(e, OffTarget)]
+    if (len(robots) != len(entries) or not robots or len(set(robots)) != len(robots)
+            or not all(isinstance(r, (int, np.integer)) and 0 <= r < problem.n for r in robots)):
+        problems.append(f"a partial plan must list each robot off target once, by index in [0, {problem.n}), "
+                        f"got {len(entries)} entries")
+        return problem
+    return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries)))
+
+
+def _at_whole_target(whole: Problem, ends: Problem, confs: list[np.ndarray], at_ends: int) -> int:
+    """The robots at their own targets at the end of a partial plan that ended ``at_ends``
+    robots where ``ends`` says (exact for configurations; for angles, of a plan that ends
+    where it says)."""
+    if confs:
+        return int(np.sum(np.all(confs[-1] == whole.target, axis=1)))
+    moved = np.any(ends.target != whole.target, axis=1)
+    return int(at_ends - np.sum(moved))
 
 
 def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:
@@ -311,7 +341,7 @@ def _read_motion(problem: Problem, plan: Plan, problems: list[str]) -> _Motion |
                         f"{[j.name for j in problem.kinematics.joints]}, each a non-empty list of [t_s, deg] in "
                         f"increasing time: a plan for another problem?")
         return _result(False, 0, 0, problems, 0, None)
-    if plan.status != "complete":
+    if plan.status not in ("complete", "partial"):
         problems.append(f"plan status is {plan.status!r}" + (f": {plan.reason}" if plan.reason else ""))
     if not motion.confs and not motion.poses and motion.trajs is None:
         problems.append("the plan has no configurations")

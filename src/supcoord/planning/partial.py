@@ -1,0 +1,330 @@
+"""Partial plans: the most robots on target when not every robot can reach its target.
+
+Write ``P(O)`` for the problem with the robots of ``O`` *off target*: each ends at its start
+(collision-free there) instead of its target; every other robot ends at its target.  After
+the planner's certificate of infeasibility (a group ``G`` of robots that cannot all reach
+their targets even with every other robot removed), :func:`partial_search` looks for a set
+``O`` for which ``P(O)`` has a plan, of least cost: the total ``weight`` of its robots
+(``weight`` in PROBLEM.json; every robot 1 without it, so the fewest robots), ties broken
+towards robots of lower priority (larger ``priority`` number), then fewer robots.
+
+Every infeasible verdict of ``P(O)`` is kept as a *nogood* ``(G, A)``: ``G`` the certified
+group, ``A = O ∩ G`` the members that were off target.  The sub-problem of ``G`` alone in
+``P(O')`` is the same whenever ``O' ∩ G = A``, so no such ``O'`` has a plan; a group found
+with ``A = ∅`` needs at least one of its members off target in *every* plan.
+
+1. **Greedy.**  ``O := ∅``; while ``P(O)`` has no plan: take its certificate ``(G, A)``
+   and put off target the member of ``G ∖ A`` of least weight, then the one whose removal
+   breaks the most nogoods that hold for ``O``, then of lowest priority.
+2. **Exact** where the conflict components (:func:`.graph_order.conflict_components`)
+   holding the certified groups have at most :data:`EXACT_ROBOTS` robots that can move:
+   every subset of them, cheapest first, not excluded by a nogood, is tried until one has a
+   plan.  Components are independent (no guard joins two), and the greedy answer leaves
+   every other component whole and solvable, so the first subset with a plan is of least
+   cost: ``optimal``.
+3. **Minimal** otherwise: each robot off target is put back in turn (the most valuable
+   first) where a nogood does not already exclude it, so that no single robot of the answer
+   could have reached its target as well.
+
+What is guaranteed: the plan is a plan of the whole problem (validated); every robot off
+target names a certified group it belongs to, or ``"not proven: budget"``; ``optimal`` is
+true where the exact search ran, or where the robots off target are as few as disjoint
+groups certified with ``A = ∅`` (each needs one of its members off target), and then the
+number on target is the maximum of the discretised single-move model over plans whose
+robots off target end at their starts.  ``on_target_bound`` is ``N`` minus the number of
+such disjoint groups: no plan has more robots on target.
+
+If the budget ends during the search, the best set found so far is the answer (its robots
+named by their certificates, ``optimal`` false); before any set is found, every robot not
+yet decided stays at its start with ``"not proven: budget"``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from ..errors import BudgetExceeded
+from ..problems.off_target import BUDGET_REASON, GroupCertificate, OffTarget, group_reason, partial_end
+from ..problems.plan import Plan, lower_bound
+from ..problems.problem import Problem
+from .graph_order import conflict_components
+
+__all__ = ["WHEN_INCOMPLETE", "EXACT_ROBOTS", "Nogood", "PartialStats", "PartialResult", "partial_search",
+           "reduced_problem"]
+
+#: what ``solve`` answers when no plan puts every robot on target: ``"partial"`` a partial
+#: plan (the most robots on target), ``"infeasible"`` the verdict with its certificate
+WHEN_INCOMPLETE = ("partial", "infeasible")
+#: the exact search runs where the certified groups' conflict components hold at most this
+#: many robots that can move (at most ``2**EXACT_ROBOTS`` sub-problems)
+EXACT_ROBOTS = 6
+
+#: one attempt: ``P(O)`` → its complete plan, or the certificate ``(members, how)`` of its
+#: infeasibility; raises :class:`~supcoord.errors.BudgetExceeded` when the budget ends
+Attempt = Callable[[Problem], "Plan | tuple[list[int], str]"]
+
+
+@dataclass(frozen=True)
+class Nogood:
+    """No ``P(O)`` with ``O ∩ members == at_start`` has a plan: the robots ``members`` cannot
+    all end where ``P(O)`` puts them (``how``: why, in words)."""
+
+    members: frozenset[int]
+    at_start: frozenset[int]
+    how: str
+
+    def forbids(self, off: frozenset[int]) -> bool:
+        """Does this nogood exclude the set ``off`` of robots off target?"""
+        return (off & self.members) == self.at_start
+
+    def certificate(self) -> GroupCertificate:
+        """The group certificate PLAN.json writes."""
+        return GroupCertificate(tuple(sorted(self.members)), self.how, tuple(sorted(self.at_start)))
+
+
+@dataclass
+class PartialStats:
+    """What the search did: ``attempts`` (sub-problems solved), ``nogoods`` found, the
+    ``method`` that gave the answer (``"greedy"``, ``"minimal"``, ``"exact"``,
+    ``"budget"``), the ``candidates`` of the exact search, and ``seconds``."""
+
+    attempts: int = 0
+    nogoods: int = 0
+    method: str = "greedy"
+    candidates: list[int] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def to_json(self) -> dict:
+        """The ``stats["partial"]`` object of PLAN.json."""
+        return {"attempts": self.attempts, "nogoods": self.nogoods, "method": self.method,
+                "candidates": list(self.candidates), "seconds": self.seconds}
+
+
+@dataclass
+class PartialResult:
+    """The answer of :func:`partial_search`: ``plan``, a complete plan of ``P(off)`` (where
+    the budget ended before one was found: nothing moves), the ``off_target`` entries,
+    ``optimal``, ``on_target`` and ``on_target_bound`` (robots), and the search's ``stats``."""
+
+    plan: Plan
+    off_target: tuple[OffTarget, ...]
+    optimal: bool
+    on_target: int
+    on_target_bound: int
+    stats: PartialStats
+
+
+def reduced_problem(problem: Problem, off: frozenset[int]) -> Problem:
+    """``P(off)``: ``problem`` with each robot of ``off`` ending at its start (the same
+    collision tables and caches, :func:`dataclasses.replace`)."""
+    entries = tuple(OffTarget(r, "", None) for r in sorted(off))
+    return replace(problem, target=partial_end(problem.start, problem.target, entries))
+
+
+class _Search:
+    """The state of one search: the problem, the attempt, the nogoods and the best set."""
+
+    def __init__(self, problem: Problem, attempt: Attempt, progress: Callable | None) -> None:
+        self.problem, self.attempt_fn, self.progress = problem, attempt, progress
+        n = problem.n
+        self.weight = np.ones(n) if problem.weight is None else np.asarray(problem.weight, float)
+        self.priority = np.asarray(problem.priority, float)
+        moving = np.any(problem.start != problem.target, axis=1)
+        self.movable = {p for p in range(n) if moving[p] and p not in problem.held}
+        self.nogoods: list[Nogood] = []
+        self.chosen: dict[int, Nogood] = {}  # the nogood each greedy choice broke
+        self.best: frozenset[int] | None = None
+        self.best_plan: Plan | None = None
+        self.stats = PartialStats()
+
+    def key(self, off: frozenset[int]) -> tuple:
+        """The cost of ``off``: total weight, then the priorities kept, then size, then indices."""
+        robots = sorted(off)
+        return (float(self.weight[robots].sum()), -float(self.priority[robots].sum()), len(robots), robots)
+
+    def add(self, members: list[int], off: frozenset[int], how: str) -> Nogood:
+        nogood = Nogood(frozenset(int(m) for m in members), frozenset(off & set(members)), how)
+        if nogood not in self.nogoods:
+            self.nogoods.append(nogood)
+            self.stats.nogoods = len(self.nogoods)
+        return nogood
+
+    def excluded(self, off: frozenset[int]) -> bool:
+        return any(g.forbids(off) for g in self.nogoods)
+
+    def attempt(self, off: frozenset[int]) -> Nogood | None:
+        """Solve ``P(off)``: None (a plan; the best so far if cheaper), or its nogood."""
+        reduced = reduced_problem(self.problem, off)
+        clash = reduced.collisions(reduced.target)
+        if clash:  # a robot at its start collides with a neighbour at its target
+            a, b, _ = clash[0]
+            return self.add([int(a), int(b)], off, "the robots' end positions collide")
+        self.stats.attempts += 1
+        if self.progress is not None:
+            self.progress("partial", {"off_target": len(off), "attempts": self.stats.attempts})
+        found = self.attempt_fn(reduced)
+        if isinstance(found, Plan):
+            if self.best is None or self.key(off) < self.key(self.best):
+                self.best, self.best_plan = off, found
+            return None
+        return self.add(found[0], off, found[1])
+
+    def breaks(self, r: int, off: frozenset[int]) -> int:
+        """How many nogoods that hold for ``off`` putting ``r`` off target breaks."""
+        return sum(1 for g in self.nogoods if r in g.members and r not in g.at_start and g.forbids(off))
+
+    def greedy(self, first: Nogood) -> None:
+        """Step 1 of the module docstring, from the first certificate ``first``."""
+        off: frozenset[int] = frozenset()
+        nogood: Nogood | None = first
+        while nogood is not None:
+            choices = sorted((nogood.members - off) & self.movable,
+                             key=lambda r: (self.weight[r], -self.breaks(r, off), -self.priority[r], r))
+            if not choices:
+                raise RuntimeError(f"internal error: certificate {sorted(nogood.members)} names no robot that "
+                                   f"can move")
+            self.chosen.setdefault(choices[0], nogood)
+            off = off | {choices[0]}
+            nogood = self.attempt(off)
+
+    def candidates(self) -> list[int]:
+        """The movable robots of the conflict components that hold a nogood's robots."""
+        touched = set().union(*(g.members for g in self.nogoods))
+        return sorted(p for comp in conflict_components(self.problem) if touched & set(comp)
+                      for p in comp if p in self.movable)
+
+    def exact(self, robots: list[int]) -> None:
+        """Step 2: every subset of ``robots`` cheaper than the best, cheapest first."""
+        assert self.best is not None
+        subsets = [frozenset(c) for k in range(len(robots) + 1) for c in itertools.combinations(robots, k)]
+        for off in sorted(subsets, key=self.key):
+            if self.key(off) >= self.key(self.best):
+                return
+            if not self.excluded(off) and self.attempt(off) is None:
+                return
+
+    def minimal(self) -> None:
+        """Step 3: each robot off target put back in turn, the most valuable first."""
+        assert self.best is not None
+        for r in sorted(self.best, key=lambda r: (-self.weight[r], self.priority[r], r)):
+            fewer = self.best - {r}
+            if r in self.best and not self.excluded(fewer):
+                self.attempt(fewer)
+
+    def reason(self, r: int, off: frozenset[int]) -> OffTarget:
+        """Why ``r`` is off target in ``off``: a nogood that excludes putting it back, else the
+        one it was chosen for, else the budget."""
+        back = off - {r}
+        tight = [g for g in self.nogoods if r in g.members and g.forbids(back)]
+        nogood = tight[0] if tight else self.chosen.get(r)
+        if nogood is None:
+            return OffTarget(r, BUDGET_REASON, None)
+        certificate = nogood.certificate()
+        return OffTarget(r, group_reason(certificate), certificate)
+
+    def packing(self) -> int:
+        """Disjoint nogoods with no member off target (a lower bound on the robots off target)."""
+        used: set[int] = set()
+        count = 0
+        for g in sorted((g for g in self.nogoods if not g.at_start), key=lambda g: len(g.members)):
+            if not g.members & used:
+                used |= g.members
+                count += 1
+        return count
+
+
+def partial_search(problem: Problem, members: list[int], how: str, attempt: Attempt,
+                   progress: Callable | None = None) -> PartialResult:
+    """After a certificate (``members``, ``how``) of ``problem``: the robots to leave off
+    target, and a complete plan of the problem with them ending at their starts (module
+    docstring: the greedy, exact and minimal steps, and what is guaranteed).
+
+    Parameters
+    ----------
+    problem : Problem
+        The whole problem (lattice positions; ``weight`` and ``priority`` as read).
+    members : list of int
+        The certified group of the planner's infeasible verdict on ``problem``.
+    how : str
+        How that group was certified, in words.
+    attempt : callable
+        ``attempt(P)`` → a complete :class:`~supcoord.problems.plan.Plan` of ``P`` or the
+        certificate ``(members, how)`` of its infeasibility; raises
+        :class:`~supcoord.errors.BudgetExceeded` when the budget ends.
+    progress : callable, optional
+        ``progress("partial", {"off_target", "attempts"})`` before each attempt.
+
+    Returns
+    -------
+    PartialResult
+        The plan of ``P(off)`` (no motion where the budget ended before one was found), the robots
+        off target with their reasons, ``optimal``, ``on_target``, ``on_target_bound``.
+
+    Raises
+    ------
+    RuntimeError
+        A certificate names no robot that can move (a bug of the planner).
+
+    Examples
+    --------
+    Three rotary robots packed too tight for all three targets: one stays at its start.
+
+    >>> from supcoord.problems.problem import parse_problem
+    >>> from supcoord.planning import solve
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [9, 15]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]})
+    >>> def attempt(q):
+    ...     plan = solve(q, when_incomplete="infeasible", improve=0, simultaneous=None)
+    ...     return plan if plan.status == "complete" else (plan.stats["certificate"], "search")
+    >>> r = partial_search(p, [0, 1, 2], "search", attempt)
+    >>> [e.robot for e in r.off_target], r.on_target, r.optimal, r.on_target_bound
+    ([0], 2, True, 2)
+    """
+    t0 = time.perf_counter()
+    search = _Search(problem, attempt, progress)
+    first = search.add(members, frozenset(), how)
+    try:
+        search.greedy(first)
+        robots = search.candidates()
+        if len(robots) <= EXACT_ROBOTS:
+            search.stats.method, search.stats.candidates = "exact", robots
+            search.exact(robots)
+        else:
+            search.stats.method = "minimal"
+            search.minimal()
+        budget_ended = False
+    except BudgetExceeded:
+        budget_ended = True
+    return _result(search, budget_ended, time.perf_counter() - t0)
+
+
+def _result(search: _Search, budget_ended: bool, seconds: float) -> PartialResult:
+    """The search's answer (module docstring): its best set, or every undecided robot at its start."""
+    problem = search.problem
+    stats = search.stats
+    stats.seconds = seconds
+    if search.best is None:  # nothing found: every robot that would move stays at its start
+        off = frozenset(search.movable)
+        stats.method = "budget"
+    else:
+        off = search.best
+        if budget_ended:
+            stats.method = "budget"
+    entries = tuple(search.reason(r, off) for r in sorted(off))
+    uniform = problem.weight is None or len(set(problem.weight)) == 1
+    bound = problem.n - search.packing()
+    on_target = problem.n - len(off)
+    optimal = not budget_ended and search.best is not None and (
+        stats.method == "exact" or (uniform and on_target == bound))
+    plan = search.best_plan
+    if plan is None:
+        plan = Plan("complete", [problem.start.copy()], 0, lower_bound(reduced_problem(problem, off)), [], "", {})
+    if optimal and uniform:  # the most robots on target: no plan has more
+        bound = on_target
+    return PartialResult(plan, entries, optimal, on_target, bound, stats)
