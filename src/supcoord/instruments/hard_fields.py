@@ -139,23 +139,6 @@ def _robot_pairs(pairs: np.ndarray, p: int) -> np.ndarray:
     return np.concatenate([pairs[pairs[:, 0] == p, 1], pairs[pairs[:, 1] == p, 0]])
 
 
-def _offline_pose(geom, p: int, angles: np.ndarray, pairs: np.ndarray, rng) -> tuple[float, float] | None:
-    """Robot ``p``'s most obstructive clear pose (module docstring), or None; ties drawn by ``rng``."""
-    a, b = (g.ravel() for g in np.meshgrid(_POSE_ALPHA, _POSE_BETA))
-    seg = robot_forward(geom, np.full(len(a), p), a, b)
-    nb = _robot_pairs(pairs, p)
-    others = robot_forward(geom, nb, angles[nb, 0], angles[nb, 1])
-    ok = _clearances(geom, p, seg, others) & _rule_ok(geom, p, a, b)
-    if not ok.any():
-        return None
-    # how close the arm comes to each neighbour's elbow circle (radius: its alpha arm)
-    d_base = segment_distance(seg[:, None, 0], seg[:, None, 1], geom.bases[nb][None], geom.bases[nb][None])
-    score = np.sum(d_base < geom.alpha_arm[nb][None] + 2 * geom.robot_buffer, axis=1) + rng.uniform(0, 0.5, len(a))
-    score[~ok] = -1.0
-    k = int(np.argmax(score))
-    return float(a[k]), float(b[k])
-
-
 def _grid(geom: InstrumentGeometry, step: float):
     lo_a, hi_a = geom.alpha_range_deg
     lo_b, hi_b = geom.beta_range_deg
@@ -265,7 +248,8 @@ def _pose_others(geom, p: int, configs: list[np.ndarray], pairs: np.ndarray) -> 
 
 
 def _place_offline(geom, p: int, start: np.ndarray, target: np.ndarray, pairs, rng) -> tuple[float, float] | None:
-    """:func:`_offline_pose` clear of the neighbours' starts and of the targets already fixed."""
+    """Robot ``p``'s most obstructive pose (module docstring) clear of the neighbours' starts, of the
+    targets already fixed, the obstacles and the fiducial rule, or None; ties drawn by ``rng``."""
     a, b = (g.ravel() for g in np.meshgrid(_POSE_ALPHA, _POSE_BETA))
     seg = robot_forward(geom, np.full(len(a), p), a, b)
     nb = _robot_pairs(pairs, p)
