@@ -92,6 +92,10 @@ class JaegerError(Exception):
     """jaeger's ``JaegerError`` / ``TrajectoryError`` (the message is jaeger's)."""
 
 
+class TimeLimit(JaegerError):
+    """The benchmark's time limit stopped the loop before jaeger ended (not jaeger's)."""
+
+
 def decollide(grid: Grid, priority_order: list[int], moved: list[int]) -> None:
     """jaeger ``kaiju.decollide(simple=False, decollide_grid_fallback=False, priority_order)``;
     the robots moved are appended to ``moved`` (also when it raises :class:`JaegerError`, as

@@ -602,8 +602,9 @@ class JaegerGrid:
     jaeger seeds every new grid from the clock; here grid k gets seed ``seed * 1000 + k``.
     """
 
-    def __init__(self, inst: dict, planner: str, direction: str, seed: int):
+    def __init__(self, inst: dict, planner: str, direction: str, seed: int, max_wall: float | None = None):
         self.inst, self.planner, self.direction, self.seed = inst, planner, direction, seed
+        self.deadline = None if max_wall is None else time.perf_counter() + max_wall
         self.lattice = tuple(inst["folded_lattice_deg"])
         self.n_grids = 0
         self.plans: list[dict] = []
@@ -656,7 +657,10 @@ class JaegerGrid:
         self.live = self._load(self.dump)
 
     def plan(self):
-        from jaeger_deadlocks import PathResult
+        from jaeger_deadlocks import PathResult, TimeLimit
+
+        if self.plans and self.deadline is not None and time.perf_counter() > self.deadline:
+            raise TimeLimit(f"time limit: stopped after {len(self.plans)} plans (the benchmark's limit, not jaeger's)")
 
         rg = self._load(self.dump, start_at_lattice=self.direction == "direct")
         if rg.getNCollisions():
@@ -680,7 +684,8 @@ def cmd_jaeger(args) -> None:
     from jaeger_deadlocks import get_paths
 
     inst = load_instance(args.instance)
-    grid = JaegerGrid(inst, args.planner, args.direction, inst["kaiju_seed"] if args.seed is None else args.seed)
+    grid = JaegerGrid(inst, args.planner, args.direction, inst["kaiju_seed"] if args.seed is None else args.seed,
+                      args.max_wall)
     rng = numpy.random.RandomState(args.choice_seed)
     c0, w0 = time.process_time(), time.perf_counter()
     out = get_paths(grid, rng, n_retries=args.retries, force=args.force)
@@ -965,6 +970,8 @@ def main(argv=None) -> None:
     p.add_argument("--force", action="store_true", help="jaeger's force=True: go on after the retries")
     p.add_argument("--seed", type=int, default=None, help="grid seeds (default: the instance's kaiju_seed)")
     p.add_argument("--choice-seed", type=int, default=0, help="seed of numpy.random.choice")
+    p.add_argument("--max-wall", type=float, default=None,
+                   help="start no new plan after this many seconds (a benchmark limit; the outcome says so)")
     p.add_argument("--out", required=True)
     p = sub.add_parser("replay", help="kaiju's collision verdict along an angle plan")
     p.add_argument("--instance", required=True)

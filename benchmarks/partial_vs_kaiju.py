@@ -135,10 +135,7 @@ def supcoord_row(args, case: dict) -> dict:
         row["reason"] = open(base + ".solve.err").read().strip()[-300:]
     pl = load_json(plan) if os.path.exists(plan) else None
     if pl:
-        offs = pl.get("off_target") or []
-        row["off_target"] = len(offs)
-        row["reasons"] = sorted({str(o.get("reason", ""))[:60] for o in offs if isinstance(o, dict)})
-        row["claimed_on_target"] = pl.get("on_target")
+        row.update(plan_summary(pl))
         chk = run_child(["nice", args.supcoord, "check", case["problem"], plan, "--json", "-q", "--timeout", "1800"],
                         base + ".check.out", base + ".check.err", 2400)
         cj = load_json(base + ".check.out") or {}
@@ -163,12 +160,27 @@ def supcoord_row(args, case: dict) -> dict:
     return row
 
 
+def plan_summary(pl: dict) -> dict:
+    """A PLAN.json's robots off target and their reasons, counted by kind."""
+    offs = [o for o in pl.get("off_target") or [] if isinstance(o, dict)]
+    kinds: dict[str, int] = {}
+    for o in offs:
+        why = str(o.get("reason", ""))
+        why = "certified group" if why.startswith("certificate") else why
+        kinds[why] = kinds.get(why, 0) + 1
+    return {"off_target": len(offs), "off_target_robots": sorted(int(o["robot"]) for o in offs),
+            "reasons": [f"{v} {k}" for k, v in sorted(kinds.items())], "claimed_on_target": pl.get("on_target"),
+            "optimal": pl.get("optimal"), "on_target_bound": pl.get("on_target_bound")}
+
+
 def jaeger_row(args, case: dict) -> tuple[dict, dict]:
     """kaiju MDP (the first plan) and jaeger's resolution, from one ``kaiju_side.py jaeger`` run."""
     base = os.path.join(args.work, case["tag"])
     out_path = base + ".jaeger.json"
     cmd = ["nice", args.kaiju_python, KAIJU_SIDE, "jaeger", "--instance", case["instance"], "--planner", "mdp",
            "--direction", case["kaiju_direction"], "--out", out_path]
+    if args.kaiju_timeout:
+        cmd += ["--max-wall", str(args.kaiju_timeout)]
     if not (args.reuse_kaiju and os.path.exists(out_path)):
         log(f"kaiju MDP + jaeger {case['tag']} ({case['kaiju_direction']})")
         res = run_child(cmd, base + ".jaeger.out", base + ".jaeger.err", 6 * 3600)
@@ -186,12 +198,14 @@ def jaeger_row(args, case: dict) -> tuple[dict, dict]:
            "deadlocked": first.get("deadlocked"), "cpu_s": first.get("cpu_seconds"),
            "note": "upper bound: a failed fold cannot be run backwards" if case["kaiju_direction"] == "fold"
            and first.get("did_fail") else ""}
-    jae = {"status": ("raises: " + j["error"]) if j["error"] else ("solved" if j["attempts"] == 0 else
+    jae = {"status": (j["error"] if j["error"].startswith("time limit") else "raises: " + j["error"])
+           if j["error"] else ("solved" if j["attempts"] == 0 else
                                                                   f"solved after {j['attempts']} moves"),
            "on_target": j["on_target"], "attempts": j["attempts"], "plans": len(j["plans"]),
            "moved": len(set(j["unlocked"]) | set(j["decollided"])), "offline_moved": j["offline_moved"],
            "cpu_s": j["cpu_seconds"], "wall_s": j["wall_seconds"], "peak_rss_mb": rss,
-           "note": "upper bound: jaeger raises and runs nothing" if j["error"] else "",
+           "note": ("" if not j["error"] else "what the last plan gives" if j["error"].startswith("time limit")
+                    else "upper bound: jaeger raises and runs nothing"),
            "command": shlex.join(portable(c, places(args)) for c in cmd)}
     assert active == case["robots"] - case["offline"]
     log(f"  -> kaiju MDP {mdp['status']} on target {mdp['on_target']}; jaeger {jae['status']} "
@@ -209,6 +223,14 @@ def fmt(v, nd=1) -> str:
     return f"{v:.{nd}f}" if isinstance(v, float) else str(v)
 
 
+def proven(r: dict, s: dict) -> str:
+    """How many of the robots with a proven-unreachable target supcoord's plan leaves off target."""
+    want = set(r.get("field", {}).get("unreachable_robots", []))
+    if not want or "off_target_robots" not in s:
+        return ""
+    return f"{len(want & set(s['off_target_robots']))} of {len(want)}"
+
+
 def write_md(path: str, data: dict) -> None:
     h = data["header"]
     m = h["machine"]
@@ -223,8 +245,9 @@ def write_md(path: str, data: dict) -> None:
           f"(supcoord {m['supcoord_version']}). The 2 cores were shared with other jobs (load above): wall times "
           "are inflated; CPU s is the better figure.", "",
           "## Robots on target", "",
-          "| case | robots | offline | upper bound | supcoord | kaiju MDP | jaeger + kaiju MDP | supcoord ≥ both |",
-          "|---|---|---|---|---|---|---|---|"]
+          "| case | robots | offline | upper bound | supcoord | kaiju MDP | jaeger + kaiju MDP | supcoord ≥ both | "
+          "proven unreachable among supcoord's off target |",
+          "|---|---|---|---|---|---|---|---|---|"]
     for r in data["rows"]:
         s, k, j = (r.get(x) or {"status": "not run"} for x in ("supcoord", "kaiju_mdp", "jaeger"))
         ok = all(isinstance(x.get("on_target"), int) for x in (s, k, j)) and \
@@ -233,7 +256,8 @@ def write_md(path: str, data: dict) -> None:
         L.append(f"| {r['case']} s{r['seed']} | {r['robots']} | {r['offline']} | {bound} | "
                  f"{fmt(s.get('on_target'))} ({s['status']}) | {fmt(k.get('on_target'))} ({k['status']}"
                  f"{'; ' + k['note'] if k.get('note') else ''}) | {fmt(j.get('on_target'))} ({j['status']}"
-                 f"{'; ' + j['note'] if j.get('note') else ''}) | {'yes' if ok else ('NO' if len(k) > 1 and len(s) > 1 else '')} |")
+                 f"{'; ' + j['note'] if j.get('note') else ''}) | {'yes' if ok else ('NO' if len(k) > 1 and len(s) > 1 else '')} | "
+                 f"{proven(r, s)} |")
     L += ["", "## Time, memory, checks", "",
           "| case | supcoord CPU s | wall s | peak RSS MB | supcoord check | kaiju's check of the plan | reasons given | "
           "kaiju MDP CPU s | jaeger plans | jaeger robots moved | jaeger CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -258,6 +282,8 @@ def main(argv=None) -> None:
     ap.add_argument("--max-memory", default="4G")
     ap.add_argument("--no-replay", dest="replay", action="store_false", help="skip kaiju's check of the plans")
     ap.add_argument("--reuse-kaiju", action="store_true", help="reuse the jaeger runs already in WORK")
+    ap.add_argument("--kaiju-timeout", type=float, default=None,
+                    help="kaiju_side.py jaeger --max-wall: start no new kaiju plan after this many seconds")
     ap.add_argument("--parts", default="supcoord,kaiju",
                     help="what to run per case: supcoord, kaiju (kaiju MDP + jaeger), or both")
     ap.add_argument("--work", default=os.path.join(os.environ.get("TMPDIR", "/tmp"), "partial_vs_kaiju"))
@@ -270,6 +296,10 @@ def main(argv=None) -> None:
     data = load_json(args.out + ".json") if (args.resume or args.report_only) else None
     if args.report_only:
         data["notes"] = data.get("notes", []) + args.note
+        for r in data["rows"]:  # the plans' summaries again, where their files are still in WORK
+            plan = os.path.join(args.work, f"{r['case']}_s{r['seed']}.plan.json")
+            if r.get("supcoord") and os.path.exists(plan):
+                r["supcoord"].update(plan_summary(load_json(plan)))
         with open(args.out + ".json", "w") as f:
             json.dump(data, f, indent=1)
         write_md(args.out + ".md", data)
