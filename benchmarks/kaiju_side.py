@@ -12,6 +12,15 @@ and writes plain JSON that supcoord (or anything else) can read without kaiju::
         --direction fold --out PATH.json
     $PY benchmarks/kaiju_side.py replay --instance DIR/hex61_s0.json --angles PLAN.json \
         --out REPLAY.json [--buffer 1.92] [--steps]
+    $PY benchmarks/kaiju_side.py field --problem PROBLEM.json --out DIR/apo-field_s0.json
+    $PY benchmarks/kaiju_side.py jaeger --instance DIR/hex127_s0.json --direction direct \
+        --out JAEGER.json [--planner mdp] [--retries 5] [--force] [--max-wall S]
+
+``field`` makes an instance from a supcoord PROBLEM.json on a wok (its targets, and its
+``offline`` robots held as jaeger's ``get_robot_grid`` holds a disabled positioner: start =
+destination, ``isOffline``). ``jaeger`` runs jaeger 1.9.1's decollision and deadlock resolution
+(``jaeger_deadlocks.py``, which cites jaeger's source) over kaiju's planner and writes the robots
+left on their targets.
 
 What kaiju does (file:line in sdss/kaiju 1.4.1, the installed version)
 ------------------------------------------------------------------------

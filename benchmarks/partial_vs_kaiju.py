@@ -125,6 +125,8 @@ def supcoord_row(args, case: dict) -> dict:
         os.remove(plan)
     cmd = ["nice", args.supcoord, "solve", case["problem"], "--out", plan, "--speed", str(SPEED), "--json", "-q",
            "--timeout", str(args.timeout), "--max-memory", args.max_memory]
+    if args.improve is not None:
+        cmd += ["--improve", str(args.improve)]
     log(f"supcoord {case['tag']}")
     res = run_child(cmd, base + ".solve.out", base + ".solve.err", args.timeout + 300)
     out = load_json(base + ".solve.out") or {}
@@ -280,6 +282,9 @@ def main(argv=None) -> None:
     ap.add_argument("--supcoord", default=os.path.join(os.path.dirname(sys.executable), "supcoord"))
     ap.add_argument("--timeout", type=float, default=900, help="supcoord solve --timeout, s")
     ap.add_argument("--max-memory", default="4G")
+    ap.add_argument("--improve", type=int, default=None,
+                    help="supcoord solve --improve N (default: supcoord's; it shortens motions, never changes "
+                         "which robots reach their targets)")
     ap.add_argument("--no-replay", dest="replay", action="store_false", help="skip kaiju's check of the plans")
     ap.add_argument("--reuse-kaiju", action="store_true", help="reuse the jaeger runs already in WORK")
     ap.add_argument("--kaiju-timeout", type=float, default=None,
@@ -320,17 +325,19 @@ def main(argv=None) -> None:
         ``--parts supcoord``) wrote meanwhile: per case, the parts each run has."""
         disk = load_json(args.out + ".json") if os.path.exists(args.out + ".json") else None
         merged = {(r["case"], r["seed"]): r for r in (disk["rows"] if disk else [])}
-        for key, r in rows.items():
-            merged[key] = {**merged.get(key, {}), **r}
+        for key, r in rows.items():  # only the parts this run made: another run's parts stay as it wrote them
+            merged[key] = {**r, **merged[key], **{p: r[p] for p in ran.get(key, ())}} if key in merged else r
         data["rows"] = sorted(merged.values(), key=lambda r: (CASE_ORDER.get(r["case"], 99), r["seed"]))
         if disk:
-            runs = {json.dumps(x, sort_keys=True): x for x in disk["header"]["runs"] + data["header"]["runs"]}
+            runs = {(x["command"], x["date"]): x for x in disk["header"]["runs"]}
+            runs[(run["command"], run["date"])] = run
             data["header"]["runs"] = sorted(runs.values(), key=lambda x: x["date"])
         with open(args.out + ".json", "w") as f:
             json.dump(data, f, indent=1)
         write_md(args.out + ".md", data)
 
     rows = {(r["case"], r["seed"]): r for r in data["rows"]}
+    ran: dict[tuple, list[str]] = {}
     for name, seed in parse_cases(args.cases):
         row = rows.get((name, seed))
         todo = [p for p in ("supcoord", "kaiju") if p in parts and (row is None or p not in row)]
@@ -347,10 +354,12 @@ def main(argv=None) -> None:
                 "field": {k: case[k] for k in ("unreachable_robots", "offline_robots", "clusters") if k in case}}
         if "supcoord" in todo:
             row["supcoord"] = supcoord_row(args, case)
+            ran.setdefault((name, seed), []).append("supcoord")
             save()
         if "kaiju" in todo:
             row["kaiju_mdp"], row["jaeger"] = jaeger_row(args, case)
             row["kaiju"] = True
+            ran.setdefault((name, seed), []).extend(["kaiju_mdp", "jaeger", "kaiju"])
             save()
     run["load_end"] = uptime()
     save()
