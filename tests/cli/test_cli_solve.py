@@ -64,11 +64,11 @@ def test_solve_writes_a_plan_that_check_accepts(tmp_path):
 
 def test_infeasible_is_an_answer(tmp_path):
     pf = _write(tmp_path, "problem.json", _infeasible())
-    code, out, _ = run("solve", pf, "--json", "-q")
+    code, out, _ = run("solve", pf, "--json", "-q", "--require-all")
     plan = json.loads(out)
     assert code == 0 and plan["status"] == "infeasible"
     assert "positioners" in plan["reason"] and plan["configurations"] == []
-    code, out, _ = run("solve", pf, "--figure", str(tmp_path / "why.png"))
+    code, out, _ = run("solve", pf, "--figure", str(tmp_path / "why.png"), "--require-all")
     assert code == 0 and out.startswith("INFEASIBLE") and "figure written to" in out
     assert (tmp_path / "why.png").stat().st_size > 1000
 
@@ -119,7 +119,7 @@ def test_subprocess_once(tmp_path):
 EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "docs" / "examples").glob("*.json"))
 #: the answer each example file promises (docs/examples/README.md)
 ANSWERS = {"three_rotary": "complete", "hex19_rotary": "complete", "sdss_v_unfold": "complete",
-           "sdss_v_exact": "complete", "infeasible_triangle": "infeasible", "sdss_v_apo": "complete"}
+           "sdss_v_exact": "complete", "infeasible_triangle": "partial", "sdss_v_apo": "complete"}
 #: examples that take minutes (a full wok: about a minute of CPU, docs/examples/README.md): parsed
 #: here, solved and checked once by tests/docs/test_examples_smoke.py (every robot at its target)
 SLOW_EXAMPLES = {"sdss_v_apo"}
@@ -141,11 +141,11 @@ def test_examples_parse_and_solve(tmp_path, path):
     code, out, err = run("solve", str(path), "--out", str(plan_path), "--json", "-q")
     plan = json.loads(out)
     assert code == 0 and plan["status"] == ANSWERS[path.stem], err
-    if plan["status"] == "complete":
+    if plan["status"] in ("complete", "partial"):
         assert plan["lower_bound"] <= plan["makespan"]
         code, out, _ = run("check", str(path), str(plan_path), "--json")
         result = json.loads(out)
-        assert code == 0 and result["valid"] and result["at_target"] == problem.n
+        assert code == 0 and result["valid"] and result["at_target"] == plan.get("on_target", problem.n)
     else:
         assert "positioners" in plan["reason"] and plan["stats"]["certificate"]
 

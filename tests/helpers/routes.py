@@ -62,9 +62,10 @@ class Recorder(WindowObserver):
 
     def solve(self, monkeypatch, p, setting: str, **options):
         """``supcoord.solve(p, **options)`` on the default route or a :data:`FORCED` one
-        (``monkeypatch``: accepted for the callers, nothing is patched)."""
+        (``monkeypatch``: accepted for the callers, nothing is patched); the verdict
+        ``infeasible`` where no complete plan exists, as the oracle's distance is."""
         self.run = set()
-        plan = solve(p, self.route(setting), **options)
+        plan = solve(p, self.route(setting), **{"when_incomplete": "infeasible", **options})
         for how, kind in CERTIFICATES.items():
             if plan.status == "infeasible" and how in plan.reason:
                 self.run.add(f"certificate: {kind}")

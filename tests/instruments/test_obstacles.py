@@ -87,7 +87,7 @@ def test_obstacles_on_both_sides_make_it_infeasible():
     # the elbow circle (radius 7.4) passes within 0.6 mm of both: alpha can turn neither way
     p = _two([{"xy": [0.0, 8.0], "buffer": 1.0}, {"xy": [0.0, -8.0], "buffer": 1.0}],
              [[0.0, 0.0], [0.0, 180.0]], [[180.0, 0.0], [0.0, 180.0]])
-    plan = supcoord.solve(p)
+    plan = supcoord.solve(p, when_incomplete="infeasible")
     assert plan.status == "infeasible" and plan.reason
 
 

@@ -76,7 +76,7 @@ def test_symbolic_verdict_and_rank_equal_the_oracle(name, seed):
         confs = apply_moves(p, res.moves)
         assert np.array_equal(confs[-1], p.target)
     for route in ("local", "monolithic"):
-        plan = solve(p, route, simultaneous=None)  # the oracle's distance is the single-move model's
+        plan = solve(p, route, simultaneous=None, when_incomplete="infeasible")  # the oracle's distance is the single-move model's
         assert plan.status == ("complete" if distance is not None else "infeasible")
         if distance is None:
             assert "positioners" in plan.reason and plan.stats["certificate"]
@@ -248,7 +248,7 @@ def test_local_route_verdicts_equal_the_oracle(p):
     """Drawn distances may put arms at exactly the buffer sum (15 + 4 = 19 mm): the oracle's
     bounds (ties free, ties blocked) then frame the answer instead of one distance."""
     lo, hi = oracle_bounds(p.to_json())
-    plan = solve(p, simultaneous=None)  # the oracle's bounds are the single-move model's
+    plan = solve(p, simultaneous=None, when_incomplete="infeasible")  # the oracle's bounds are the single-move model's
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:
@@ -261,7 +261,7 @@ def test_local_route_verdicts_equal_the_oracle(p):
         assert validate_plan(p, plan)["valid"]
         assert plan.lower_bound <= plan.makespan <= len(plan.events)
         assert lo is not None and lo <= len(plan.events)
-    default = solve(p)  # with the simultaneous search: a plan wherever the single-move model has one
+    default = solve(p, when_incomplete="infeasible")  # with the simultaneous search: a plan wherever the single-move model has one
     if default.status == "complete":
         assert validate_plan(p, default)["valid"]
     else:
@@ -394,8 +394,8 @@ def parse_event_(p, e):
 @pytest.mark.parametrize("pitch,seed", [(22.4, 0), (22.4, 3), (18.0, 0), (18.0, 5)])
 def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, seed):
     p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, ROT, 2.0, seed=seed)
-    local = solve(p)
-    mono = solve(p, Monolithic(fixpoint="search"))
+    local = solve(p, when_incomplete="infeasible")
+    mono = solve(p, Monolithic(fixpoint="search"), when_incomplete="infeasible")
     assert local.status == mono.status
     if local.status == "complete":
         assert validate_plan(p, local)["valid"] and validate_plan(p, mono)["valid"]
@@ -415,13 +415,13 @@ def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
     """On the problem's own lattice (``finer=None``: both routes decide that model); a plan
     the local route then finds on a finer lattice is valid."""
     p = random_problem({"kind": "hex", "rings": 1, "pitch": pitch}, AB, 2.0, seed=seed)
-    local = solve(p, finer=None)
-    mono = solve(p, Monolithic(fixpoint="search"), finer=None)
+    local = solve(p, finer=None, when_incomplete="infeasible")
+    mono = solve(p, Monolithic(fixpoint="search"), finer=None, when_incomplete="infeasible")
     assert local.status == mono.status
     for plan in (local, mono):
         if plan.status == "complete":
             assert validate_plan(p, plan)["valid"]
-    refined = solve(p)
+    refined = solve(p, when_incomplete="infeasible")
     assert refined.status == local.status or (refined.status == "complete" and refined.lattice is not None)
     if refined.status == "complete":
         assert validate_plan(p, refined)["valid"]
@@ -435,10 +435,10 @@ def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
 ])
 def test_window_caps_never_change_the_verdict(layout, kin, seed, verdict):
     p = random_problem(layout, kin, 2.0, seed=seed)
-    default = solve(p)
+    default = solve(p, when_incomplete="infeasible")
     assert default.status == verdict
     for levels in ((50, None),) if verdict == "complete" else ((50, None), (5, 20, None)):  # the grid is slow
-        tiny = solve(p, Local(levels=levels))
+        tiny = solve(p, Local(levels=levels), when_incomplete="infeasible")
         assert tiny.status == verdict
         assert tiny.stats["windows_abandoned"] > 0  # the tiny cap was really hit
         if verdict == "complete":
@@ -463,7 +463,7 @@ def test_symbolic_optimal_makespan_equals_the_oracle(name, seed):
     p = _problem(name, seed)
     opt = oracle_optimal_makespan(p.to_json())
     assert optimal_makespan(p)["makespan"] == opt
-    plan = solve(p)
+    plan = solve(p, when_incomplete="infeasible")
     if opt is None:
         assert plan.status == "infeasible"
     else:  # every plan is a path of the simultaneous semantics: never shorter than its optimum

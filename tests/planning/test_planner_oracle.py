@@ -106,7 +106,7 @@ def test_random_tight_problems_agree_with_the_oracle(data, setting):
 @given(data=tight_problems(max_n=3, max_product=5_000), supervisor=st.booleans())
 def test_monolithic_rank_is_the_oracle_distance(data, supervisor):
     p = parse_problem(data)
-    plan = solve(p, Monolithic(fixpoint="supervisor" if supervisor else "search"), simultaneous=None)
+    plan = solve(p, Monolithic(fixpoint="supervisor" if supervisor else "search"), simultaneous=None, when_incomplete="infeasible")
     distance = oracle_solve(data)
     assert plan.status == ("complete" if distance is not None else "infeasible")
     if distance is None:
@@ -133,7 +133,7 @@ def test_answers_at_exact_touches_lie_between_the_oracle_bounds(name, seed):
     p = random_problem(np.array(TIES[name], float), {"kind": "rotary", "arm": 15.0, "steps": 12}, 2.0, seed=seed)
     data = p.to_json()
     lo, hi = oracle_bounds(data)
-    plan = solve(p, simultaneous=None)  # the oracle's bounds are those of the single-move model
+    plan = solve(p, simultaneous=None, when_incomplete="infeasible")  # the oracle's bounds are those of the single-move model
     if hi is not None:
         assert plan.status == "complete"
     if lo is None:
@@ -163,7 +163,7 @@ def test_a_route_with_half_a_micrometre_of_clearance_is_planned(route):
 def test_a_route_a_micrometre_too_close_is_certified_infeasible(route):
     data = tight_route(-0.001, angle_deg=-13.0)
     p = parse_problem(data)
-    plan = solve(p, route=route)
+    plan = solve(p, route=route, when_incomplete="infeasible")
     assert oracle_solve(data) is None and plan.status == "infeasible"
     assert oracle_solve(data, members=plan.stats["certificate"]) is None
 
@@ -193,5 +193,5 @@ def test_folded_arms_agree_with_the_oracle(seed):
     from supcoord.problems import random_problem
 
     p = random_problem(np.array([[0.0, 0.0], [16.0, 0.0], [8.0, 13.0]]), FOLDED, 0.5, seed=seed)
-    plan = solve(p)
+    plan = solve(p, when_incomplete="infeasible")
     check_against_oracle(p.to_json(), plan, p)

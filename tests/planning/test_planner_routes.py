@@ -123,7 +123,8 @@ def test_statistics_are_written_in_the_order_first_set():
 
 def test_the_command_line_maps_its_flags_to_the_routes_options(capsys):
     triangle = str(EXAMPLES / "infeasible_triangle.json")
-    assert main(["solve", triangle, "--json", "--single-move-only", "--route", "monolithic", "--order", "rcm"]) == 0
+    assert main(["solve", triangle, "--json", "--single-move-only", "--route", "monolithic", "--order", "rcm",
+                 "--require-all"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "infeasible" and out["stats"]["route"] == "monolithic"
     assert out["stats"]["order"] == "rcm" and out["stats"]["certificate_model"] == "single-move"

@@ -58,7 +58,7 @@ def _finer_data(data: dict) -> dict:
 def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed):
     data = _case(seed)
     p = parse_problem(data)
-    coarse = solve(p, improve=0, finer=None)
+    coarse = solve(p, improve=0, finer=None, when_incomplete="infeasible")
     assert coarse.status == "infeasible" and coarse.stats["certificate_model"] == "single-move"
     assert "refined" not in coarse.stats
     assert oracle_solve(data, members=coarse.stats["certificate"]) is None  # a real single-move certificate
@@ -91,7 +91,7 @@ def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed
 @pytest.mark.slow
 def test_where_the_finer_lattice_has_no_plan_either_the_coarse_certificate_stands(seed):
     p = parse_problem(_case(seed))
-    plan = solve(p, improve=0)
+    plan = solve(p, improve=0, when_incomplete="infeasible")
     assert plan.status == "infeasible" and plan.lattice is None
     assert plan.stats["certificate_model"] == "single-move"
     refined = plan.stats["refined"]

@@ -60,7 +60,7 @@ def test_without_the_repair_the_lattice_has_no_plan(monkeypatch):
     p = parse_problem(_apo_one_robot_out())
     assert not p.warnings
     assert not alone_reachable(p.kin(386), p.unary()[386], p.start[386], p.target[386])
-    plan = supcoord.solve(p, improve=0)
+    plan = supcoord.solve(p, improve=0, when_incomplete="infeasible")
     assert plan.status == "infeasible" and plan.stats["certificate"] == [386]
 
 

@@ -216,8 +216,9 @@ def _check_jaeger_limits(problem, args: argparse.Namespace) -> None:
 def _summary(problem, plan, speed: float | None) -> str:
     """The answer in words: the plan's size and work, or the verdict and its reason."""
     if plan.status == "partial":
-        return (f"PARTIAL: {plan.reason}\n" + ("the most robots on target the discretised model allows"
-                                               if plan.optimal else f"at most {plan.on_target_bound} could be on target")
+        return (f"PARTIAL: {plan.reason}\n"
+                + ("optimal: no plan of the discretised model leaves less off target" if plan.optimal else
+                   f"not proven optimal: at most {plan.on_target_bound} robots could be on target")
                 + f"; makespan {plan.makespan}, {plan.stats.get('seconds', 0):.2f} s")
     if plan.status != "complete":
         return f"{plan.status.upper()}: {plan.reason}"

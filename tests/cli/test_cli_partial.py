@@ -1,0 +1,53 @@
+"""``supcoord solve`` with partial plans (issue 37): the answer in words and JSON, exit 0,
+``--require-all``, and ``supcoord check`` accepting the plan."""
+
+import contextlib
+import io
+import json
+from pathlib import Path
+
+from supcoord.cli.main import main
+
+TRIANGLE = str(Path(__file__).resolve().parents[2] / "docs" / "examples" / "infeasible_triangle.json")
+
+
+def run(*argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_solve_answers_a_partial_plan_that_check_accepts(tmp_path):
+    plan_path = str(tmp_path / "plan.json")
+    code, out, err = run("solve", TRIANGLE, "--out", plan_path, "-v")
+    assert code == 0, err
+    assert out.splitlines()[0] == ("PARTIAL: 2 of 3 robots reach their targets; off target: robot 0 (group [0, 1, 2] "
+                                   "has no plan with these robots on target)")
+    assert out.splitlines()[1].startswith("optimal: ")
+    assert "partial" in err  # the progress line while robots are left out
+    plan = json.loads(Path(plan_path).read_text())
+    assert plan["status"] == "partial" and plan["on_target"] == 2 and plan["optimal"] is True
+    assert plan["off_target"][0]["robot"] == 0 and plan["off_target"][0]["end"] == "start"
+    assert plan["off_target"][0]["certificate"]["members"] == [0, 1, 2]
+    code, out, _ = run("check", TRIANGLE, plan_path, "--json")
+    result = json.loads(out)
+    assert code == 0 and result["valid"] and result["at_target"] == 2
+
+
+def test_json_is_the_plan_file_and_require_all_keeps_the_verdict(tmp_path):
+    code, out, _ = run("solve", TRIANGLE, "--json", "-q")
+    assert code == 0 and json.loads(out)["status"] == "partial"
+    code, out, _ = run("solve", TRIANGLE, "--json", "-q", "--require-all")
+    plan = json.loads(out)
+    assert code == 0 and plan["status"] == "infeasible" and "off_target" not in plan
+
+
+def test_check_refuses_a_partial_plan_that_moves_a_listed_robot(tmp_path):
+    plan_path = tmp_path / "plan.json"
+    assert run("solve", TRIANGLE, "--out", str(plan_path), "-q")[0] == 0
+    plan = json.loads(plan_path.read_text())
+    plan["off_target"][0]["robot"] = 1  # robot 1 reaches its target: not where the entry says
+    plan_path.write_text(json.dumps(plan))
+    code, out, _ = run("check", TRIANGLE, str(plan_path), "--json")
+    assert code == 0 and not json.loads(out)["valid"]
