@@ -12,6 +12,15 @@ and writes plain JSON that supcoord (or anything else) can read without kaiju::
         --direction fold --out PATH.json
     $PY benchmarks/kaiju_side.py replay --instance DIR/hex61_s0.json --angles PLAN.json \
         --out REPLAY.json [--buffer 1.92] [--steps]
+    $PY benchmarks/kaiju_side.py field --problem PROBLEM.json --out DIR/apo-field_s0.json
+    $PY benchmarks/kaiju_side.py jaeger --instance DIR/hex127_s0.json --direction direct \
+        --out JAEGER.json [--planner mdp] [--retries 5] [--force] [--max-wall S]
+
+``field`` makes an instance from a supcoord PROBLEM.json on a wok (its targets, and its
+``offline`` robots held as jaeger's ``get_robot_grid`` holds a disabled positioner: start =
+destination, ``isOffline``). ``jaeger`` runs jaeger 1.9.1's decollision and deadlock resolution
+(``jaeger_deadlocks.py``, which cites jaeger's source) over kaiju's planner and writes the robots
+left on their targets.
 
 What kaiju does (file:line in sdss/kaiju 1.4.1, the installed version)
 ------------------------------------------------------------------------
@@ -267,17 +276,31 @@ def kaiju_seed(seed: int) -> int:
     return int(seed) + 1
 
 
-def make_instance(kind: str, seed: int) -> dict:
+def make_instance(kind: str, seed: int, field: dict | None = None) -> dict:
+    """An instance: kaiju's random decollided targets, or ``field``'s (a supcoord PROBLEM.json on
+    the wok: ``target.alpha_beta_deg`` in table row order and ``offline`` ``{row: [α, β]}``)."""
     K = _kaiju()
     rg, geo = build_grid(kind, kaiju_seed(seed))
     order = robot_order(rg, kind, geo)
-    # kaiju's random decollided targets (first half of getRandomPathPair, robotGrid.py:154-169)
     t0 = time.perf_counter()
-    for robot in rg.robotDict.values():
-        robot.setDestinationAlphaBeta(*LATTICE)
-        robot.setXYUniform()
-    n_initial = rg.getNCollisions()
-    rg.decollideGrid()
+    offline = {}
+    if field is None:
+        # kaiju's random decollided targets (first half of getRandomPathPair, robotGrid.py:154-169)
+        for robot in rg.robotDict.values():
+            robot.setDestinationAlphaBeta(*LATTICE)
+            robot.setXYUniform()
+        n_initial = rg.getNCollisions()
+        rg.decollideGrid()
+    else:
+        offline = {order[int(k)]: list(map(float, v)) for k, v in field.get("offline", {}).items()}
+        for rid, ab in zip(order, field["target"]["alpha_beta_deg"]):
+            ab = offline.get(rid, ab)
+            rg.robotDict[rid].setAlphaBeta(float(ab[0]), float(ab[1]))
+            rg.robotDict[rid].setDestinationAlphaBeta(*(ab if rid in offline else LATTICE))
+            rg.robotDict[rid].isOffline = rid in offline
+        n_initial = rg.getNCollisions()
+        if n_initial:
+            _fail(f"the field's targets are kaiju-collided: robots {sorted(rg.getCollidedRobotList())[:20]}")
     t_dec = time.perf_counter() - t0
     assert rg.getNCollisions() == 0
     targets = {rid: (rg.robotDict[rid].alpha, rg.robotDict[rid].beta) for rid in order}
@@ -321,8 +344,8 @@ def make_instance(kind: str, seed: int) -> dict:
             "planar": pm,
         })
     # the folded lattice is collision-free?
-    for r in rg.robotDict.values():
-        r.setAlphaBeta(*LATTICE)
+    for rid, r in rg.robotDict.items():
+        r.setAlphaBeta(*offline.get(rid, LATTICE))
     n_folded = rg.getNCollisions()
     for rid in order:
         rg.robotDict[rid].setAlphaBeta(*targets[rid])
@@ -376,13 +399,15 @@ def make_instance(kind: str, seed: int) -> dict:
                        "planar.origin_xy_mm + planar.tangent_to_wok_matrix @ tangent"),
         "planar_model_max_error_mm": max_err,
         "segment_z_mm": sorted(z_values),
-        "folded_deg": [list(LATTICE) for _ in order],
+        "folded_deg": [list(offline.get(r, LATTICE)) for r in order],
+        "offline": {str(i): offline[r] for i, r in enumerate(order) if r in offline},
         "targets_deg": [list(targets[r]) for r in order],
         "targets_xy_mm": [tgt_xy[r] for r in order],
         "targets_boss_xy_mm": [tgt_boss[r] for r in order],
         "targets_apogee_xy_mm": [tgt_ap[r] for r in order],
         "target_generation": ("RobotGrid(seed=kaiju_seed): robot.setXYUniform() for every robot in id order, "
-                              "then decollideGrid() (kaiju getRandomPathPair, robotGrid.py:154-169)"),
+                              "then decollideGrid() (kaiju getRandomPathPair, robotGrid.py:154-169)"
+                              if field is None else "given by a supcoord PROBLEM.json (kaiju_side.py field)"),
         "checks": {"initial_kaiju_collided_robots": int(n_initial),
                    "targets_kaiju_collided_robots": 0,
                    "folded_kaiju_collided_robots": int(n_folded),
@@ -441,6 +466,31 @@ def _breakpoints(path: list) -> list[list[float]]:
     return out
 
 
+def set_offline(rg, order: list[int], inst: dict, start: dict, dest: dict) -> None:
+    """The instance's offline robots (``offline``: row -> [alpha, beta]) held where they are, as jaeger's
+    ``get_robot_grid`` holds a disabled positioner: start = destination = its angles, ``isOffline``."""
+    for row, ab in inst.get("offline", {}).items():
+        rid = order[int(row)]
+        start[rid] = dest[rid] = tuple(ab)
+        rg.robotDict[rid].isOffline = True
+
+
+def run_planner(rg, planner: str, greed: float = GREED, phobia: float = PHOBIA) -> dict:
+    """kaiju's path generation as jaeger's ``get_path_pair`` calls it; the call made."""
+    if planner == "greedy":
+        rg.pathGenGreedy()
+        return {"call": "pathGenGreedy(stopIfDeadlock=False, ignoreInitialCollisions=False)"}
+    if planner == "mdp":
+        rg.pathGenMDP2(greed, phobia, False, MDP2_TRIES)
+        return {"call": f"pathGenMDP2(greed={greed}, phobia={phobia}, "
+                        f"ignoreInitialCollisions=False, nTries={MDP2_TRIES})",
+                "mdp2_iterations": int(rg.mdp2iter)}
+    if planner == "mdp1":
+        rg.pathGenMDP(greed, phobia)
+        return {"call": f"pathGenMDP(greed={greed}, phobia={phobia})"}
+    _fail(f"unknown planner {planner}")
+
+
 def cmd_plan(args) -> None:
     inst = load_instance(args.instance)
     seed = inst["kaiju_seed"] if args.plan_seed is None else args.plan_seed
@@ -453,6 +503,7 @@ def cmd_plan(args) -> None:
     else:  # direct
         start = {rid: lattice for rid in order}
         dest = targets
+    set_offline(rg, order, inst, start, dest)
     for rid in order:
         r = rg.robotDict[rid]
         r.setAlphaBeta(*start[rid])
@@ -461,19 +512,7 @@ def cmd_plan(args) -> None:
         _fail("start configuration is kaiju-collided")
     with _stdout_to_stderr():
         c0, w0 = time.process_time(), time.perf_counter()
-        if args.planner == "greedy":
-            rg.pathGenGreedy()
-            params = {"call": "pathGenGreedy(stopIfDeadlock=False, ignoreInitialCollisions=False)"}
-        elif args.planner == "mdp":
-            rg.pathGenMDP2(args.greed, args.phobia, False, MDP2_TRIES)
-            params = {"call": f"pathGenMDP2(greed={args.greed}, phobia={args.phobia}, "
-                              f"ignoreInitialCollisions=False, nTries={MDP2_TRIES})",
-                      "mdp2_iterations": int(rg.mdp2iter)}
-        elif args.planner == "mdp1":
-            rg.pathGenMDP(args.greed, args.phobia)
-            params = {"call": f"pathGenMDP(greed={args.greed}, phobia={args.phobia})"}
-        else:
-            _fail(f"unknown planner {args.planner}")
+        params = run_planner(rg, args.planner, args.greed, args.phobia)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     did_fail = bool(rg.didFail)
     deadlocked = sorted(int(x) for x in rg.deadlockedRobots())
@@ -555,6 +594,146 @@ def cmd_plan(args) -> None:
     print(json.dumps({k: out[k] for k in ("grid", "seed", "planner", "direction", "solved",
                                           "cpu_seconds", "wall_seconds", "n_steps", "motion_time_s")}
                      | {"deadlocked": len(deadlocked), "off_target": len(off_target)}))
+
+
+# --------------------------------------------------------------------------- jaeger
+
+
+class JaegerGrid:
+    """jaeger's handling of kaiju's grid (``jaeger_deadlocks.Grid``) on an instance.
+
+    The live grid holds the robots at their targets, destination the folded lattice, offline
+    robots held (jaeger ``get_robot_grid``); ``save`` is jaeger's ``dump_robot_grid``, ``restore``
+    its ``load_robot_grid`` (a new grid), ``plan`` its ``get_path_pair(data=dump)`` (a new grid
+    from the dump, then kaiju's planner). ``direction`` ``fold`` plans as jaeger does (targets ->
+    lattice; jaeger runs the path backwards); ``direct`` plans lattice -> targets on the same
+    bookkeeping (the deadlock resolution then moves targets of a plan kaiju makes forwards).
+    jaeger seeds every new grid from the clock; here grid k gets seed ``seed * 1000 + k``.
+    """
+
+    def __init__(self, inst: dict, planner: str, direction: str, seed: int, max_wall: float | None = None):
+        self.inst, self.planner, self.direction, self.seed = inst, planner, direction, seed
+        self.deadline = None if max_wall is None else time.perf_counter() + max_wall
+        self.lattice = tuple(inst["folded_lattice_deg"])
+        self.n_grids = 0
+        self.plans: list[dict] = []
+        rg, self.order = grid_for(inst, self._next_seed())
+        self.offline = {self.order[int(k)]: tuple(v) for k, v in inst.get("offline", {}).items()}
+        self.dump = {rid: (*ab, *(self.offline.get(rid, self.lattice)), rid in self.offline)
+                     for rid, ab in zip(self.order, inst["targets_deg"])}
+        self.live = self._load(self.dump)
+
+    def _next_seed(self) -> int:
+        self.n_grids += 1
+        return self.seed * 1000 + self.n_grids
+
+    def _load(self, dump: dict, start_at_lattice: bool = False):
+        rg, _ = grid_for(self.inst, self._next_seed())
+        for rid, (a, b, da, db, off) in dump.items():
+            r = rg.robotDict[rid]
+            if start_at_lattice and not off:  # direct: from the lattice to the targets
+                r.setAlphaBeta(*self.lattice)
+                r.setDestinationAlphaBeta(a, b)
+            else:
+                r.setAlphaBeta(a, b)
+                r.setDestinationAlphaBeta(da, db)
+            r.isOffline = bool(off)
+        return rg
+
+    def robots(self) -> list[int]:
+        return list(self.order)
+
+    def is_offline(self, robot: int) -> bool:
+        return bool(self.live.robotDict[robot].isOffline)
+
+    def collided_robots(self) -> list[int]:
+        return [int(r) for r in self.live.getCollidedRobotList()]
+
+    def is_collided(self, robot: int) -> bool:
+        return bool(self.live.isCollided(robot))
+
+    def set_xy_uniform(self, robot: int) -> None:
+        self.live.robotDict[robot].setXYUniform()
+
+    def decollide_robot(self, robot: int) -> None:
+        self.live.decollideRobot(robot)
+
+    def save(self) -> None:
+        self.dump = {rid: (r.alpha, r.beta, r.destinationAlpha, r.destinationBeta, bool(r.isOffline))
+                     for rid, r in self.live.robotDict.items()}
+
+    def restore(self) -> None:
+        self.live = self._load(self.dump)
+
+    def plan(self):
+        from jaeger_deadlocks import PathResult, TimeLimit
+
+        if self.plans and self.deadline is not None and time.perf_counter() > self.deadline:
+            raise TimeLimit(f"time limit: stopped after {len(self.plans)} plans (the benchmark's limit, not jaeger's)")
+
+        rg = self._load(self.dump, start_at_lattice=self.direction == "direct")
+        if rg.getNCollisions():
+            _fail("jaeger: the start of a plan is kaiju-collided")
+        with _stdout_to_stderr():
+            c0 = time.process_time()
+            call = run_planner(rg, self.planner)
+            cpu = time.process_time() - c0
+        at = frozenset(int(rid) for rid, r in rg.robotDict.items() if r.score() == 0)
+        res = PathResult(bool(rg.didFail), tuple(int(x) for x in rg.deadlockedRobots()), at)
+        self.plans.append({"cpu_seconds": cpu, "did_fail": res.did_fail, "deadlocked": len(res.deadlocks),
+                           "at_destination": len(at),
+                           "at_destination_active": len(at - set(self.offline)), "n_steps": int(rg.nSteps), "call": call["call"]})
+        return res
+
+
+def cmd_jaeger(args) -> None:
+    """jaeger's get_paths (decollide, _resolve_deadlocks) on an instance; writes the outcome."""
+    import numpy
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from jaeger_deadlocks import get_paths
+
+    inst = load_instance(args.instance)
+    grid = JaegerGrid(inst, args.planner, args.direction, inst["kaiju_seed"] if args.seed is None else args.seed,
+                      args.max_wall)
+    rng = numpy.random.RandomState(args.choice_seed)
+    c0, w0 = time.process_time(), time.perf_counter()
+    out = get_paths(grid, rng, n_retries=args.retries, force=args.force)
+    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    active = [r for r in grid.order if r not in grid.offline]
+    res = {"format": "supcoord-benchmark/jaeger-resolution/1", "instance": _portable(args.instance),
+           "grid": inst["grid"], "seed": inst["seed"], "planner": args.planner, "direction": args.direction,
+           "n_retries": args.retries, "force": args.force, "choice_seed": args.choice_seed,
+           "jaeger_version": "1.9.1 (configuration.py get_paths/_resolve_deadlocks, kaiju.py decollide/get_path_pair)",
+           "kaiju_version": inst["kaiju_version"],
+           "robots": len(grid.order), "offline": len(grid.offline), "active": len(active),
+           "error": out.error, "attempts": out.attempts, "plans": grid.plans,
+           "decollided": out.decollided, "unlocked": out.unlocked, "offline_moved": out.offline_moved,
+           "deadlocks_per_plan": out.deadlocks_per_attempt,
+           "last_did_fail": out.last.did_fail if out.last else None,
+           "on_target": len(out.on_target), "on_target_ids": out.on_target,
+           "on_target_note": ("robots not offline, not moved by decollide/_resolve_deadlocks, at their "
+                              "destination at the end of the last kaiju plan; when jaeger raises (error) it "
+                              "runs nothing, and this is what the last plan would have given"),
+           "cpu_seconds": cpu, "wall_seconds": wall}
+    with open(args.out, "w") as f:
+        json.dump(res, f, indent=1)
+    print(json.dumps({k: res[k] for k in ("grid", "seed", "planner", "direction", "error", "attempts",
+                                          "on_target", "active", "cpu_seconds")}))
+
+
+def cmd_field(args) -> None:
+    """A kaiju instance from a supcoord PROBLEM.json on the wok (its targets and offline robots)."""
+    with open(args.problem) as f:
+        prob = json.load(f)
+    name = prob.get("layout", {}).get("name", "")
+    kind = {"sdss-v-apo": "apo", "sdss-v-lco": "lco"}.get(name)
+    if kind is None:
+        _fail(f"{args.problem}: layout.name {name!r} is not sdss-v-apo or sdss-v-lco")
+    inst = make_instance(kind, args.seed, field=prob)
+    inst["field"] = {"problem": _portable(args.problem), "name": prob.get("name", "")}
+    with open(args.out, "w") as f:
+        json.dump(inst, f)
+    print(f"{args.out}: {len(inst['robot_ids'])} robots, {len(inst['offline'])} offline", file=sys.stderr)
 
 
 # --------------------------------------------------------------------------- replay
@@ -788,6 +967,21 @@ def main(argv=None) -> None:
     p.add_argument("--no-smooth", action="store_true",
                    help="skip getPathPair (no path_smoothed; it is always skipped when kaiju failed, as in jaeger)")
     p.add_argument("--out", required=True)
+    p = sub.add_parser("field", help="an instance from a supcoord PROBLEM.json on the wok (targets, offline)")
+    p.add_argument("--problem", required=True)
+    p.add_argument("--seed", type=int, default=0, help="benchmark seed (kaiju seed = seed + 1)")
+    p.add_argument("--out", required=True)
+    p = sub.add_parser("jaeger", help="jaeger's decollision and deadlock resolution over kaiju's planner")
+    p.add_argument("--instance", required=True)
+    p.add_argument("--planner", choices=["greedy", "mdp"], default="mdp", help="jaeger's default: mdp")
+    p.add_argument("--direction", choices=["fold", "direct"], default="fold")
+    p.add_argument("--retries", type=int, default=5, help="jaeger's n_deadlock_retries (default 5)")
+    p.add_argument("--force", action="store_true", help="jaeger's force=True: go on after the retries")
+    p.add_argument("--seed", type=int, default=None, help="grid seeds (default: the instance's kaiju_seed)")
+    p.add_argument("--choice-seed", type=int, default=0, help="seed of numpy.random.choice")
+    p.add_argument("--max-wall", type=float, default=None,
+                   help="start no new plan after this many seconds (a benchmark limit; the outcome says so)")
+    p.add_argument("--out", required=True)
     p = sub.add_parser("replay", help="kaiju's collision verdict along an angle plan")
     p.add_argument("--instance", required=True)
     p.add_argument("--angles", required=True)
@@ -798,7 +992,8 @@ def main(argv=None) -> None:
     p.add_argument("--out", required=True)
     args = ap.parse_args(argv)
     _kaiju(args.wokcalib)
-    {"instances": cmd_instances, "plan": cmd_plan, "replay": cmd_replay}[args.cmd](args)
+    {"instances": cmd_instances, "plan": cmd_plan, "replay": cmd_replay, "field": cmd_field,
+     "jaeger": cmd_jaeger}[args.cmd](args)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,9 @@ segment, buffers, joint ranges and folded lattice, each number with its source.
 :func:`robot_forward` and :func:`fibre_xy` are kaiju's forward kinematics.
 :mod:`.wok` writes wok problems: :func:`folded_configuration`, :func:`random_wok_targets`
 (kaiju-like, seeded, decollided), :func:`wok_targets` (by positioner ID, in wok mm or angles)
-and :func:`wok_problem` (a PROBLEM.json object). See ``docs/instruments.md``.
+and :func:`wok_problem` (a PROBLEM.json object); :mod:`.hard_fields` makes hard fields
+(:func:`hard_wok_field`: offline robots in the way, crowded targets, provably unreachable
+targets). See ``docs/instruments.md``.
 """
 
 from .acceptance import CollisionDefinition, MotionLimits, collision_definition, motion_limits
@@ -20,6 +22,7 @@ from .sdss_v import (
     robot_collision_distance,
     robot_forward,
 )
+from .hard_fields import HardField, UnreachableCertificate, hard_wok_field, unreachable_certificate
 from .wok import folded_configuration, random_wok_targets, wok_problem, wok_targets
 
 __all__ = [
@@ -34,6 +37,10 @@ __all__ = [
     "random_wok_targets",
     "wok_targets",
     "wok_problem",
+    "hard_wok_field",
+    "HardField",
+    "UnreachableCertificate",
+    "unreachable_certificate",
     "CollisionDefinition",
     "MotionLimits",
     "collision_definition",
