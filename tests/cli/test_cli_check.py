@@ -115,5 +115,5 @@ def test_unknown_fields_are_warned_on_stderr(tmp_path):
     code, out, err = run("check", pf, plan, "--json")
     assert code == 0 and json.loads(out)["valid"]
     assert err.strip() == (f"supcoord: warning: {pf}: unknown field 'prority' ignored (known: layout, kinematics, collision, "
-                           "start, target, priority, offline, fixed, fibre, name, description, comment, preset, seed, "
+                           "start, target, priority, weight, offline, fixed, fibre, name, description, comment, preset, seed, "
                            "target_ids)")

@@ -178,7 +178,7 @@ def test_unknown_fields_are_warnings_naming_the_field():
     p = parse_problem(data, "w.json")
     assert p.priority == [1, 2, 3, 4, 5, 6, 7]  # the typo is not read ...
     assert p.warnings == [  # ... but it is reported, one line each
-        "w.json: unknown field 'prority' ignored (known: layout, kinematics, collision, start, target, priority, offline, "
+        "w.json: unknown field 'prority' ignored (known: layout, kinematics, collision, start, target, priority, weight, offline, "
         "fixed, fibre, name, description, comment, preset, seed, target_ids)",
         "w.json: unknown field 'kinematics.arms' ignored (known: kind, arm, steps)",
         "w.json: unknown field 'collision.buffers' ignored (known: buffer, margin, obstacle_margin)",

@@ -174,7 +174,7 @@ def planned_conflicts(problem: Problem, exclude: Sequence[int] = (), max_groups:
             return ConflictReport(out, "max_groups")
         sub = sub_problem(problem, left)
         try:
-            plan = solve(sub, simultaneous=None, finer=None, improve=0, budget=budget)
+            plan = solve(sub, simultaneous=None, finer=None, improve=0, budget=budget, when_incomplete="infeasible")
         except BudgetExceeded:
             return ConflictReport(out, "budget")
         if plan.status == "complete":

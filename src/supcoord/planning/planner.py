@@ -414,14 +414,14 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
     stats.update(partial=found.stats.to_json(), seconds=time.perf_counter() - t0)
     out = Plan("partial", plan.configurations, plan.makespan, plan.lower_bound, plan.events,
                partial_summary(problem.n, found.on_target, found.off_target), stats, plan.angles_deg,
-               plan.trajectories, plan.motion_time_s, None, found.off_target, found.on_target, found.optimal,
-               found.on_target_bound)
+               plan.trajectories, plan.motion_time_s, None, off_target=found.off_target, on_target=found.on_target,
+               optimal=found.optimal, on_target_bound=found.on_target_bound)
     if settings.validation == "independent":
         _phase(settings.progress, "validate", steps=len(out.configurations) - 1)
         result = validate_plan(problem, out)
-        if not result["valid"]:
-            raise RuntimeError(f"internal error: the planner's partial plan fails validation: {result['problems'][:3]}")
-        out.stats["min_clearance"] = result["min_clearance"]
+        if not result.valid:
+            raise RuntimeError(f"internal error: the planner's partial plan fails validation: {result.problems[:3]}")
+        out.stats["min_clearance"] = result.min_clearance
     return out
 
 

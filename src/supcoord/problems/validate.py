@@ -91,11 +91,12 @@ import numpy as np
 
 from ..errors import InputError
 from .consistency import check_problem, plan_defects
-from .off_target import OffTarget, partial_end
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
+from .validate_partial import at_whole_target, partial_problem
 from .validate_repair import check_repair_phase
+from .validation_result import ValidationResult
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
 __all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses",
@@ -107,62 +108,6 @@ MAX_PROBLEMS = 50
 RESOLUTION_RANGE = (1e-4, 100.0)
 #: degrees within which a plan's angles must meet the start, the target and the joint ranges
 ANGLE_TOL = 1e-6
-
-
-@dataclass(frozen=True)
-class ValidationResult:
-    """The verdict of :func:`validate_plan` on one plan (the module docstring's rule).
-
-    Attributes
-    ----------
-    valid : bool
-        No problem found: start to target, joints in range, no collision.
-    collisions : int
-        Colliding (step, pair) incidents, and (step, robot, obstacle) ones.
-    at_target : int
-        Robots whose last position is their target.
-    problems : list of str
-        One line per problem found, at most :data:`MAX_PROBLEMS` (then ``"... and N more"``).
-    steps : int
-        Steps of the motion checked.
-    min_clearance : float or None
-        The least ``dist − (r_a + r_b)`` seen (mm); None when nothing was measured.
-    incidents : list of dict
-        The first collisions: ``{"step", "positioners", "t", "distance", "required"}`` (``t`` in
-        [0, 1] of the step, distances in mm; against an obstacle also ``"obstacle"``).
-    undecided : int
-        Pairs accepted touching along a stretch, which no sampling settles.
-    undecided_depth : float
-        How deep a collision those pairs could hide at most (mm).
-    motion_time_s : float or None
-        The last breakpoint time (s) of a plan with trajectories, else None.
-    """
-
-    valid: bool
-    collisions: int
-    at_target: int
-    problems: list[str]
-    steps: int
-    min_clearance: float | None
-    incidents: list[dict[str, Any]]
-    undecided: int = 0
-    undecided_depth: float = 0.0
-    motion_time_s: float | None = None
-
-    def to_json(self) -> dict[str, Any]:
-        """The verdict as ``supcoord check --json`` prints it (``motion_time_s`` only when the
-        plan has trajectories)."""
-        out = {"valid": self.valid, "collisions": self.collisions, "at_target": self.at_target,
-               "problems": list(self.problems), "steps": self.steps, "min_clearance": self.min_clearance,
-               "incidents": list(self.incidents), "undecided": self.undecided, "undecided_depth": self.undecided_depth}
-        if self.motion_time_s is not None:
-            out["motion_time_s"] = self.motion_time_s
-        return out
-
-    def __getitem__(self, key: str) -> Any:
-        """The JSON field ``key`` of :meth:`to_json`: ``result["valid"]``, the call form of the
-        dictionary :func:`validate_plan` returned before this class."""
-        return self.to_json()[key]
 
 
 def hex_bases_by_angle(rings: int, pitch: float) -> np.ndarray:
@@ -292,7 +237,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
         return _validate_repaired(problem, plan, resolution)
     whole = problem
     if plan.status == "partial":  # checked as a complete plan of the problem ending where it says
-        problem = _partial_problem(problem, plan, problems)
+        problem = partial_problem(problem, plan, problems)
     motion = _read_motion(problem, plan, problems)
     if isinstance(motion, ValidationResult):  # refused: the result says why
         return motion
@@ -310,7 +255,7 @@ def validate_plan(problem: Problem, plan: Plan, resolution: float = 0.05) -> Val
         if alone is not None:
             at_target, n_steps = alone
     if problem is not whole:  # robots at their own targets, not at the ends the partial plan lists
-        at_target = _at_whole_target(whole, problem, confs, at_target)
+        at_target = at_whole_target(whole, problem, confs, at_target)
     result = _result(not problems, found.collisions, at_target, problems, n_steps, found.clearance, found.incidents,
                      (found.undecided, found.depth))
     if trajs is not None:
@@ -358,30 +303,6 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
     incidents = [dict(i, step=i["step"] + k) for i in rest.incidents]
     return _result(not problems, fixed.collisions + rest.collisions, rest.at_target, problems, len(confs) - 1,
                    clearance, incidents, (fixed.undecided + rest.undecided, max(fixed.depth, rest.undecided_depth)))
-
-
-def _partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Problem:
-    """The problem a ``partial`` plan solves completely: ``problem`` with each robot listed in
-    ``off_target`` ending at its start (:func:`~.off_target.partial_end`); a list that names
-    no robot, or one robot twice, is a problem of the plan."""
-    entries = plan.off_target
-    robots = [e.robot for e in entries if isinstance(e, OffTarget)]
-    if (len(robots) != len(entries) or not robots or len(set(robots)) != len(robots)
-            or not all(isinstance(r, (int, np.integer)) and 0 <= r < problem.n for r in robots)):
-        problems.append(f"a partial plan must list each robot off target once, by index in [0, {problem.n}), "
-                        f"got {len(entries)} entries")
-        return problem
-    return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries)))
-
-
-def _at_whole_target(whole: Problem, ends: Problem, confs: list[np.ndarray], at_ends: int) -> int:
-    """The robots at their own targets at the end of a partial plan that ended ``at_ends``
-    robots where ``ends`` says (exact for configurations; for angles, of a plan that ends
-    where it says)."""
-    if confs:
-        return int(np.sum(np.all(confs[-1] == whole.target, axis=1)))
-    moved = np.any(ends.target != whole.target, axis=1)
-    return int(at_ends - np.sum(moved))
 
 
 def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:
