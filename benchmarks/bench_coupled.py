@@ -255,6 +255,9 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
         row["variant"] = f"{variant}@{source[0]}"
     if result is None:
         row["last_stage"] = progress[-1] if progress else None
+        proved = [p["upper_bound"] for p in progress if "upper_bound" in p]  # the greedy string, before the A*
+        if proved:
+            row["last_stage"]["upper_bound"] = proved[0]
         row["error"] = err[0] if err else None
     return row
 

@@ -14,7 +14,7 @@ from supcoord.paper.run import coupled_instance
 from supcoord.paper.settled import settled_ccc, settled_ccc_naive
 from supcoord.paper.settled_bound import PatternBound
 from supcoord.paper.settled_graph import target_in_zone
-from supcoord.paper.settled_witness import greedy_witness, replay
+from supcoord.paper.settled_witness import _events, greedy_witness, replay
 
 
 def _random_models(seed: int, count: int):
@@ -78,9 +78,14 @@ def test_replay_refuses_strings_that_do_not_force_the_target():
     swapped = witness[:k - 1] + [witness[k], witness[k - 1]] + witness[k + 1:]
     with pytest.raises(ModelError):
         replay(model, swapped)
-    later = next(e for e in witness[k:] if int(e) % 2 == 1)
-    with pytest.raises(ModelError, match="an uncontrollable event is pending"):  # a move that skips the pending one
-        replay(model, witness[:k] + [later])
+    state = (tuple(model.inst.start), (0,) * model.inst.size)
+    for name in witness[:k]:
+        state = dict(_events(model, state, False) or _events(model, state, True))[name]
+    defined = [name for name, _ in _events(model, state, controllable=True)]  # defined, but preempted
+    assert defined
+    with pytest.raises(ModelError, match=f"step {k + 1} of the witness cannot fire: an uncontrollable event is "
+                                         f"pending"):
+        replay(model, witness[:k] + defined[:1])
 
 
 def test_the_greedy_search_refuses_a_bad_limit_and_gives_up_at_its_limit():

@@ -46,6 +46,9 @@ every shortest path is expanded.  "Not forcible" is proved when nothing is left 
 expand, or, before any BDD is built, by a group of positioners whose relaxation (their
 arms alone, :mod:`.settled_bound`) cannot reach their targets: every settled edge is a
 move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.
+Between the two, a greedy search on the explicit settled states
+(:mod:`.settled_witness`) looks for a forcing string: one that replay accepts proves
+"forcible" at once and bounds the A*'s distance from above (the A* still proves the rank).
 The witness is then read forward as :func:`~supcoord.synthesis.witness` reads it on
 ``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
