@@ -108,9 +108,13 @@ def replay(model: CoupledModel, witness: list[str] | tuple[str, ...]) -> int:
     Examples
     --------
     >>> from supcoord.paper.run import coupled_instance
-    >>> model = CoupledModel(coupled_instance(2, 8, 0))
-    >>> replay(model, []) if model.inst.start == model.inst.target else 0
-    0
+    >>> model = CoupledModel(coupled_instance(3, 8, 0))
+    >>> replay(model, ["71", "71", "81", "81", "81", "81", "91", "71"])
+    8
+    >>> replay(model, ["71", "81"])
+    Traceback (most recent call last):
+    ...
+    supcoord.errors.ModelError: the witness does not end at the target with every level 0
     """
     size = model.inst.size
     state: State = (tuple(model.inst.start), (0,) * size)
@@ -165,8 +169,8 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
     >>> from supcoord.paper.run import coupled_instance
     >>> model = CoupledModel(coupled_instance(3, 8, 0))
     >>> found = greedy_witness(model, PatternBound(model))
-    >>> found is None or replay(model, found.witness) == found.length
-    True
+    >>> found.length, found.witness[:4]
+    (8, ('71', '71', '81', '81'))
     """
     if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
         raise InputError(f"limit must be a positive integer, got {limit!r}", value=limit, where="limit")
