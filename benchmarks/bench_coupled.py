@@ -36,6 +36,11 @@ order, and the sizes wherever they are counted.
 and ``benchmarks`` exported by ``git archive``), next to this checkout's, labelled
 ``variant@REV``: a change measured against the code before it in the same run.
 
+``--cpu SECONDS`` limits each worker's CPU time as well (``RLIMIT_CPU``: on a shared
+machine the wall clock says little); ``--jobs K`` runs K points at once.  A settled point
+stopped by a limit after its greedy search found a forcing string reports the verdict
+(``yes``, proved by the checked string) and the string's length, an upper bound on the rank.
+
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
 (``supcon_naive``) and libFAUDES's ``SupCon`` and compares state and transition counts.
@@ -47,17 +52,20 @@ Usage::
     python benchmarks/bench_coupled.py --orders auto --variants old new --all --check --nodes
     python benchmarks/bench_coupled.py --sizes 3 4 5 --timeout 60 --check
     python benchmarks/bench_coupled.py --orders auto --variants settled --sizes 6 8 10 12 --rev ae0fe25
+    python benchmarks/bench_coupled.py --orders auto --variants settled --sizes 19 --seeds 0 1 2 --cpu 60 --timeout 900 --jobs 2 --all
     python benchmarks/bench_coupled.py --quick          # N = 3, 4; 30 s; prints, writes nothing
 """
 
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import datetime
 import json
 import os
 import platform
 import resource
+import signal
 import subprocess
 import sys
 import tarfile
@@ -98,7 +106,8 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
         if stage != last.get("stage") or time.perf_counter() - last.get("t", 0.0) > 5:
             last.update(stage=stage, t=time.perf_counter())
             _emit("P", {"stage": stage, "at": round(time.perf_counter() - t0, 2), "nodes": info.get("nodes"),
-                        "rss_mb": _rss_mb()})
+                        "rss_mb": _rss_mb(), "cpu": round(time.process_time(), 2),
+                        **({"upper_bound": info["upper_bound"]} if "upper_bound" in info else {})})
 
     ctx = Context(progress=progress)
     inst = coupled_instance(size, steps, seed)
@@ -170,7 +179,8 @@ def _settled(model, ctx, order: str, t0: float, seed: int, variant: str) -> None
         "seconds": round(time.perf_counter() - t0, 3), "build": st["build_seconds"], "supcon": None,
         "ccc_seconds": round(st["search_seconds"] + st["witness_seconds"], 3), "relations": st["relations"],
         "buckets": st["buckets"], "max_layer_nodes": st["max_layer_nodes"], "bdd_nodes": None,
-        "blocked_group": st.get("blocked_group"),
+        "blocked_group": st.get("blocked_group"), "upper_bound": st.get("upper_bound"),
+        "greedy_expanded": st.get("greedy_expanded"), "cpu": round(time.process_time(), 2),
         "peak_nodes": ctx.peak_nodes(), "rss_mb": _rss_mb()})
 
 
@@ -198,8 +208,12 @@ def _check(model, st: dict) -> dict:
 # -- driver -------------------------------------------------------------------------------
 
 
-def _limit() -> None:
-    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+def _limiter(cpu: float | None):
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+        if cpu is not None:
+            resource.setrlimit(resource.RLIMIT_CPU, (int(cpu), int(cpu) + 5))
+    return limit
 
 
 def export_revision(rev: str, into: str) -> str:
@@ -213,7 +227,7 @@ def export_revision(rev: str, into: str) -> str:
 
 
 def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool,
-              variant: str = "new", source: tuple[str, str] | None = None) -> dict:
+              variant: str = "new", source: tuple[str, str] | None = None, cpu: float | None = None) -> dict:
     """One point in a fresh subprocess; ``source`` = ``(rev, dir)``: the worker of an older
     revision exported by :func:`export_revision` (its ``src`` first on ``sys.path``)."""
     script = os.path.abspath(__file__) if source is None else os.path.join(source[1], "benchmarks", "bench_coupled.py")
@@ -223,9 +237,10 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
     cmd += ["--nodes"] if nodes else []
     t = time.perf_counter()
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limit, check=False,
-                           env=env)
-        text, status = p.stdout, ("ok" if p.returncode == 0 else f"exit {p.returncode}")
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limiter(cpu),
+                           check=False, env=env)
+        text, status = p.stdout, ("ok" if p.returncode == 0 else f"> {cpu:g} s CPU"
+                                  if cpu is not None and p.returncode == -signal.SIGXCPU else f"exit {p.returncode}")
         err = p.stderr.strip().splitlines()[-1:] if p.returncode else []
     except subprocess.TimeoutExpired as exc:
         text = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
@@ -240,6 +255,9 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
         row["variant"] = f"{variant}@{source[0]}"
     if result is None:
         row["last_stage"] = progress[-1] if progress else None
+        proved = [p["upper_bound"] for p in progress if "upper_bound" in p]  # the greedy string, before the A*
+        if proved:
+            row["last_stage"]["upper_bound"] = proved[0]
         row["error"] = err[0] if err else None
     return row
 
@@ -255,7 +273,7 @@ def _fmt(v) -> str:
 
 
 def table(rows: list[dict]) -> str:
-    head = ["N", "seed", "order", "variant", "status", "CCC", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
+    head = ["N", "seed", "order", "variant", "status", "CCC", "CPU s", "s (worker)", "build", "reach", "coreach", "supcon", "ccc", "count", "images",
             "image s", "max operand", "clusters", "reach nodes", "V nodes", "peak nodes", "RSS MB", "states",
             "transitions", "rank", "settled: buckets / max layer nodes", "equal to explicit / libFAUDES"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -269,9 +287,14 @@ def table(rows: list[dict]) -> str:
             eq = f"{'yes' if r['explicit_equal'] else 'NO'} ({r['explicit_seconds']} s) / " \
                  f"{'yes' if r['faudes_equal'] else 'NO'} ({r['faudes_seconds']} s)"
         verdict = None if "rank" not in r else "yes" if r["ccc"] else "no"
+        if verdict is None and last and last.get("upper_bound"):
+            verdict = f"yes (checked witness of {last['upper_bound']} events; rank not proved)"
+        elif r.get("upper_bound"):
+            verdict += f" (greedy witness: {r['upper_bound']} events)"
         if r.get("blocked_group"):
             verdict += " (blocked: " + ", ".join(f"P{i}" for i in r["blocked_group"]) + ")"
-        cells = [r["size"], r.get("seed"), r["order"], r.get("variant", "new"), status, verdict, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
+        cpu = r.get("cpu", last.get("cpu") if last else None)
+        cells = [r["size"], r.get("seed"), r["order"], r.get("variant", "new"), status, verdict, cpu, r.get("seconds"), r.get("build"), r.get("reach"), r.get("coreach"),
                  r.get("supcon"), r.get("ccc_seconds"), r.get("count"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
@@ -300,6 +323,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="variants to compare (old: plain event steps; new: local closures; whole: supervisor "
                          "without Reach, as supcoord paper runs)")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
+    ap.add_argument("--cpu", type=float, default=None, help="CPU seconds per point (default: no limit)")
+    ap.add_argument("--jobs", type=int, default=1, help="points run at once (more than 1: every size runs)")
     ap.add_argument("--seeds", "--seed", dest="seeds", type=int, nargs="+", default=[0],
                     help="seeds of the random instances, each size run on each (default 0)")
     ap.add_argument("--check", action="store_true", help="compare with the explicit twin and libFAUDES (N <= 4)")
@@ -323,14 +348,23 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         sources = [None] + [(rev, export_revision(rev, tmp)) for rev in args.rev]
-        for order in args.orders:
+        if args.jobs > 1:
+            points = [(size, order, seed, variant, source) for order in args.orders for size in sorted(args.sizes)
+                      for seed in args.seeds for variant in args.variants for source in sources]
+            with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+                futures = [pool.submit(run_point, size, order, args.timeout, seed, args.check, args.nodes, variant,
+                                       source, args.cpu) for size, order, seed, variant, source in points]
+                for future in futures:
+                    rows.append(future.result())
+                    print(table(rows[-1:]).splitlines()[-1], file=sys.stderr, flush=True)
+        for order in args.orders if args.jobs == 1 else ():
             for size in sorted(args.sizes):
                 stop = True
                 for seed in args.seeds:
                     for variant in args.variants:  # side by side: same size, same load
                         for source in sources:
                             row = run_point(size, order, args.timeout, seed, args.check, args.nodes, variant,
-                                            source)
+                                            source, args.cpu)
                             rows.append(row)
                             print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
                             stop &= "rank" not in row
@@ -350,7 +384,8 @@ def main(argv: list[str] | None = None) -> int:
                 f"{machine['python']}; code: `{machine['version']}`  \n")
         f.write(f"Load (1/5/15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; after: "
                 f"{', '.join(f'{x:.2f}' for x in load_after)} — the machine is shared, read ratios within a run.  \n")
-        f.write(f"Each point: a fresh subprocess, {args.timeout:g} s and 6 GiB at most; n = {STEPS} steps, "
+        cpu = "" if args.cpu is None else f", {args.cpu:g} s of CPU"
+        f.write(f"Each point: a fresh subprocess, {args.timeout:g} s{cpu} and 6 GiB at most; n = {STEPS} steps, "
                 f"seeds {', '.join(map(str, args.seeds))}.\n\n")
         f.write(text + "\n\n" + agree + "\n\n")
         f.write("Columns: `variant` = `old` (saturation over the plain event steps, the code before the local "

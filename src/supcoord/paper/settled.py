@@ -46,6 +46,9 @@ every shortest path is expanded.  "Not forcible" is proved when nothing is left 
 expand, or, before any BDD is built, by a group of positioners whose relaxation (their
 arms alone, :mod:`.settled_bound`) cannot reach their targets: every settled edge is a
 move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.
+Between the two, a greedy search on the explicit settled states
+(:mod:`.settled_witness`) looks for a forcing string: one that replay accepts proves
+"forcible" at once and bounds the A*'s distance from above (the A* still proves the rank).
 The witness is then read forward as :func:`~supcoord.synthesis.witness` reads it on
 ``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
@@ -76,6 +79,7 @@ from .coupled import CoupledModel
 from .events import positioner_events
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
 from .settled_graph import SettledGraph, State, check_settled_route, settle, target_in_zone
+from .settled_witness import GREEDY_LIMIT, greedy_witness
 
 __all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
 
@@ -87,10 +91,11 @@ class _Search:
     buckets: int  # (g, h) buckets expanded
 
 
-def _astar(graph: SettledGraph, check: ThrottledCheck) -> _Search:
+def _astar(graph: SettledGraph, check: ThrottledCheck, upper: int | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
+    ``upper``: the weight of a known path to ``T`` (a checked witness), or None.
 
     ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
     state is first expanded at its distance; ``open_[g]`` holds the states generated at
@@ -101,7 +106,7 @@ def _astar(graph: SettledGraph, check: ThrottledCheck) -> _Search:
     at_most = list(itertools.accumulate(exact, lambda a, b: a | b))
     open_: dict[int, BDD] = {0: graph.start}
     closed, layers = false, [false]
-    best: int | None = 0 if graph.start & graph.target != false else None
+    best: int | None = 0 if graph.start & graph.target != false else upper
     f, buckets = graph.heuristic(graph.start_raw[0]), 0
     if f is None:  # even the relaxation of the bound cannot reach the target
         return _Search(layers, None, 0)
@@ -205,7 +210,8 @@ def _blocked_text(group: list[int]) -> str:
 
 
 def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto",
-                group_size: int = GROUP_SIZE, certificate_size: int = CERTIFICATE_SIZE) -> CCCResult:
+                group_size: int = GROUP_SIZE, certificate_size: int = CERTIFICATE_SIZE,
+                greedy_limit: int = GREEDY_LIMIT) -> CCCResult:
     """CCC of the coupled model under preemptive semantics on its settled states (module
     docstring): the verdict, ``rank(q0)`` and the witness that :func:`~supcoord.synthesis.ccc`
     returns on ``V``.  ``stats``: seconds (``build``, ``search``, ``witness``), the bounds
@@ -215,6 +221,11 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     targets (:meth:`~.settled_bound.PatternBound.blocked_group`, groups of up to
     ``certificate_size`` around each positioner) answers "not forcible" at once, with
     ``stats["certificate"]`` and ``stats["blocked_group"]`` (1-based) saying which.
+    Otherwise a greedy search (:func:`~.settled_witness.greedy_witness`, at most
+    ``greedy_limit`` settled states) looks for a forcing string, checked by replay: when it
+    finds one, "forcible" is proved before the A* starts, ``stats["upper_bound"]`` is its
+    length (``rank(q0)`` is at most that) and the context's progress callback hears of it
+    (stage ``"settled witness"``); the A* then proves the rank and reads the witness.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
     check_settled_route(model)
@@ -232,12 +243,17 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
             "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None, "max_layer_nodes": 0,
             "blocked_group": [i + 1 for i in group], "certificate": _blocked_text(group),
             "seconds": round(time.perf_counter() - t0, 4)})
+    found = greedy_witness(model, bound, greedy_limit)
     graph = SettledGraph(model, ctx, order, group_size, bound)
     ctx = graph.ctx
     check = ThrottledCheck(ctx)
     t1 = time.perf_counter()
-    stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4)}
-    search = _astar(graph, check)
+    stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4),
+             "upper_bound": None if found is None else found.length,
+             "greedy_expanded": None if found is None else found.expanded}
+    if found is not None:  # the verdict is proved: say so before the search for the rank
+        ctx.check_budget("settled witness", upper_bound=found.length, forcible=True)
+    search = _astar(graph, check, None if found is None else found.length - graph.start_cost)
     t2 = time.perf_counter()
     stats["buckets"] = search.buckets
     stats.update(search_seconds=round(t2 - t1, 4), distance=search.found,

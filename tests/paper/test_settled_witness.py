@@ -1,0 +1,97 @@
+"""The greedy forcing string of the coupled model against the explicit Dijkstra twin, and
+its replay check against strings that do not force the target."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from supcoord.errors import InputError, ModelError
+from supcoord.paper.coupled import CoupledModel, Geometry
+from supcoord.paper.literal import PaperInstance, hex_neighbours, hex_sites
+from supcoord.paper.run import coupled_instance
+from supcoord.paper.settled import settled_ccc, settled_ccc_naive
+from supcoord.paper.settled_bound import PatternBound
+from supcoord.paper.settled_graph import target_in_zone
+from supcoord.paper.settled_witness import _events, greedy_witness, replay
+
+
+def _random_models(seed: int, count: int):
+    """Seeded random coupled instances of 2 to 4 positioners whose target has no arm in
+    another's zone (the settled route's condition)."""
+    rng = random.Random(seed)
+    while count:
+        size = rng.choice([2, 3, 3, 4])
+        steps = rng.choice([4, 5, 6])
+        pitch = rng.choice([16.0, 18.0, 20.0, 22.4])
+        start = tuple(rng.randrange(steps) for _ in range(size))
+        target = tuple(rng.randrange(steps) for _ in range(size))
+        priority = list(range(1, size + 1))
+        rng.shuffle(priority)
+        inst = PaperInstance(steps, start, target, tuple(priority), hex_neighbours(hex_sites(size)))
+        model = CoupledModel(inst, Geometry(pitch=pitch))
+        if model.start_collisions or model.target_collisions or target_in_zone(model):
+            continue
+        count -= 1
+        yield model
+
+
+@pytest.mark.timeout(120)
+def test_the_greedy_string_exists_exactly_where_the_explicit_twin_finds_the_target_forcible():
+    kinds = {"forcible": 0, "not forcible": 0}
+    for model in _random_models(seed=38, count=40):
+        forcible, rank = settled_ccc_naive(model)
+        found = greedy_witness(model, PatternBound(model), limit=10 ** 6)  # the whole settled graph fits
+        assert (found is not None) == forcible, model.inst
+        kinds["forcible" if forcible else "not forcible"] += 1
+        if found is not None:
+            assert replay(model, found.witness) == found.length == len(found.witness)
+            assert found.length >= rank, model.inst
+    assert min(kinds.values()) >= 2, kinds
+
+
+@pytest.mark.timeout(240)
+@pytest.mark.parametrize("size, seed", [(5, 0), pytest.param(6, 0, marks=pytest.mark.slow),
+                                        pytest.param(7, 0, marks=pytest.mark.slow)])
+def test_the_greedy_string_bounds_the_rank_of_the_benchmark_instances(size, seed):
+    model = CoupledModel(coupled_instance(size, 8, seed))
+    exact = settled_ccc(model)
+    found = greedy_witness(model, PatternBound(model))
+    assert exact.forcible and found is not None
+    assert replay(model, exact.witness) == exact.rank  # the A*'s witness passes the same check
+    assert found.length >= exact.rank
+
+
+def test_replay_refuses_strings_that_do_not_force_the_target():
+    model = CoupledModel(coupled_instance(6, 8, 0))
+    witness = list(settled_ccc(model).witness)
+    assert replay(model, witness) == len(witness)
+    with pytest.raises(ModelError, match="does not end at the target"):
+        replay(model, witness[:-1])
+    with pytest.raises(ModelError):
+        replay(model, witness[1:])
+    with pytest.raises(ModelError):
+        replay(model, witness + witness[-1:])
+    # an uncontrollable event (even number) fired after a controllable one it must preempt
+    k = next(i for i, e in enumerate(witness) if int(e) % 2 == 0 and i > 0 and int(witness[i - 1]) % 2 == 1)
+    swapped = witness[:k - 1] + [witness[k], witness[k - 1]] + witness[k + 1:]
+    with pytest.raises(ModelError):
+        replay(model, swapped)
+    state = (tuple(model.inst.start), (0,) * model.inst.size)
+    for name in witness[:k]:
+        state = dict(_events(model, state, False) or _events(model, state, True))[name]
+    defined = [name for name, _ in _events(model, state, controllable=True)]  # defined, but preempted
+    assert defined
+    with pytest.raises(ModelError, match=f"step {k + 1} of the witness cannot fire: an uncontrollable event is "
+                                         f"pending"):
+        replay(model, witness[:k] + defined[:1])
+
+
+def test_the_greedy_search_refuses_a_bad_limit_and_gives_up_at_its_limit():
+    model = CoupledModel(coupled_instance(6, 8, 0))
+    bound = PatternBound(model)
+    for bad in (0, -1, True, 2.5):
+        with pytest.raises(InputError):
+            greedy_witness(model, bound, limit=bad)
+    assert greedy_witness(model, bound, limit=1) is None
