@@ -41,8 +41,9 @@ __all__ = ["segment_distance_ericson", "pieces_distances", "Bodies", "MotionChec
 
 #: depth (mm) below which bisection stops: a collision shallower than this can pass unseen
 TOLERANCE = 1e-6
-#: sampled distances or intervals computed at once (bounds the memory of one call)
-_ROWS = 200_000
+#: distances computed per numpy call: the temporaries then stay in the processor's cache
+#: (about 2.5 times faster per distance than one call over 250,000 pairs)
+_ROWS = 16_384
 #: (step, pair) entries checked together: steps are gathered into blocks of about this many
 _ENTRIES = 250_000
 #: open intervals of one pair and step beyond which bisection stops: the pair touches along
@@ -337,6 +338,18 @@ class _Open:
         qb = self.a0[s, b][:, None, :] + t[:, :, None] * self.turn[s, b][:, None, :]
         return _ericson(*self.bodies.place(a[:, None], qa), *self.bodies.place(b[:, None], qb))
 
+    def sampled(self, j: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Distances ``(K, T)`` of entries ``j`` ``(K,)`` at the times ``t`` ``(T,)`` of their
+        steps: each (step, entity) placed once at every time, however many pairs it is in."""
+        n_ent = len(self.bodies.base)
+        key, inverse = np.unique(np.concatenate([self.s[j] * n_ent + self.a[j], self.s[j] * n_ent + self.b[j]]),
+                                 return_inverse=True)
+        s, e = np.divmod(key, n_ent)
+        q = self.a0[s, e][:, None, :] + t[None, :, None] * self.turn[s, e][:, None, :]
+        placed = self.bodies.place(e[:, None], q)
+        ra, rb = inverse[:len(j)], inverse[len(j):]
+        return _ericson(*(x[ra] for x in placed), *(x[rb] for x in placed))
+
     def sample(self, samples: np.ndarray) -> None:
         """Sample entry ``j`` at ``samples[j] + 1`` equal times; keep the least distance and the
         intervals whose bound does not settle it."""
@@ -347,7 +360,7 @@ class _Open:
             per = max(1, _ROWS // len(t))
             for lo in range(0, len(group), per):
                 j = group[lo:lo + per]
-                dist = self.distances(j, np.broadcast_to(t, (len(j), len(t))))
+                dist = self.sampled(j, t)
                 best = dist.argmin(axis=1)
                 self.dmin[j] = dist[np.arange(len(j)), best]
                 self.tmin[j] = t[best]
