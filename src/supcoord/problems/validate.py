@@ -50,8 +50,8 @@ exactly ``r_a + r_b``, which no sampling settles); such pairs are accepted and r
 hide (a collision deeper than that is always found, whatever the resolution).
 
 This module is deliberately *independent* of the planner and of the collision tables:
-of :mod:`supcoord.geometry` it uses only each robot's segment at given angles
-(``segments_at_deg``) and :meth:`Problem.angles_deg`; it rebuilds a hex layout from
+of the kinematics it reads only each robot's numbers (the chain of its arms, its reach,
+:meth:`Problem.angles_deg`) and evaluates them with its own code (:mod:`.validate_motion`); it rebuilds a hex layout from
 ``rings`` and ``pitch`` by another construction (axial lattice coordinates sorted by
 ring, then by polar angle) and reports a base that differs from the problem's, uses
 another segment-distance algorithm (closest points of two segments by clamped
