@@ -132,13 +132,13 @@ def _to_segment(xx: Any, xy: Any, sx: Any, sy: Any, dx: Any, dy: Any, length2: A
     return np.sqrt(wx * wx + wy * wy)
 
 
-def _segment_radius(l1: float, seg: np.ndarray, offsets: np.ndarray) -> float:
-    """Farthest point of the colliding segment from the last joint's axis (0 for one joint),
-    measured on the chain at zero joint angles from ``(l1, 0)``."""
-    if len(offsets) == 1:
+def _segment_radius(seg: np.ndarray, joints: int) -> float:
+    """Farthest point of the colliding segment from the last joint's axis (0 for one joint): the
+    elbow is the origin of the second link's frame, in which ``seg`` ``(2, 2)`` is given, so
+    whatever the angles and calibration offsets it is the farther end point's norm."""
+    if joints == 1:
         return 0.0
-    x0, y0, x1, y1 = _chain(np.float64(l1), seg, np.radians(offsets[0]), np.radians(offsets[1]))
-    return float(np.hypot(np.array([x0, x1]) - l1, np.array([y0, y1])).max())
+    return float(np.hypot(seg[:, 0], seg[:, 1]).max())
 
 
 def _chain(l1: Any, seg: np.ndarray, a: Any, b: Any) -> tuple[np.ndarray, ...]:
@@ -175,7 +175,7 @@ class Bodies:
         offsets = np.array([k.chain_offsets_deg() for k in kins], float).reshape(len(kins), -1)
         self.joints = offsets.shape[1] if len(kins) else problem.kinematics.n_joints
         self.reach = np.array([kins[g].reach for g in group], float).reshape(n)
-        radius = [_segment_radius(l1[g], seg[g], offsets[g]) for g in range(len(kins))]
+        radius = [_segment_radius(seg[g], self.joints) for g in range(len(kins))]
         self.radius = np.array([radius[g] for g in group], float).reshape(n)
         self.obstacles = np.asarray(getattr(problem, "obstacles", np.zeros((0, 2, 2))), float).reshape(-1, 2, 2)
         self.m = m = len(self.obstacles)
