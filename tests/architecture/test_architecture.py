@@ -226,3 +226,11 @@ def test_no_two_modules_share_a_name():
     packages = {m for m in MODULES if any(other.startswith(m + ".") for other in MODULES)}
     repeated = {name: mods for name, mods in by_name.items() if len(mods) > 1 and not set(mods) <= packages}
     assert not repeated, repeated
+
+
+def test_the_validators_geometry_shares_no_code_with_the_planners():
+    """``problems.validate_motion`` evaluates the arms, the segment distances and the sampled
+    motions with its own code (docs/architecture.md, "The validator"): a bug in
+    ``supcoord.geometry`` cannot pass both the planner and its check."""
+    imported = _imports("supcoord.problems.validate_motion")
+    assert not {m for m in imported if m.startswith(("supcoord.geometry", "supcoord.planning"))}, sorted(imported)

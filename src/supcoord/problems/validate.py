@@ -55,8 +55,8 @@ exactly ``r_a + r_b``, which no sampling settles); such pairs are accepted and r
 hide (a collision deeper than that is always found, whatever the resolution).
 
 This module is deliberately *independent* of the planner and of the collision tables:
-of :mod:`supcoord.geometry` it uses only each robot's segment at given angles
-(``segments_at_deg``) and :meth:`Problem.angles_deg`; it rebuilds a hex layout from
+of the kinematics it reads only each robot's numbers (the chain of its arms, its reach,
+:meth:`Problem.angles_deg`) and evaluates them with its own code (:mod:`.validate_motion`); it rebuilds a hex layout from
 ``rings`` and ``pitch`` by another construction (axial lattice coordinates sorted by
 ring, then by polar angle) and reports a base that differs from the problem's, uses
 another segment-distance algorithm (closest points of two segments by clamped
@@ -388,17 +388,20 @@ def _check_configurations(problem: Problem, plan: Plan, confs: list[np.ndarray],
     wraps = np.array([j.wraps for j in kin.joints])
     at_target = int(np.sum(np.all(confs[-1] == problem.target, axis=1)))
     _check_sequence(problem, plan, kin.kind, confs, steps, wraps, problems)
+    # every configuration's angles and every step's end in one call each (each robot's own lattice)
+    starts = problem.angles_deg(np.stack(confs))
+    ends = problem.angles_deg(np.stack([c + _step_delta(c, c1, steps, wraps, k, [])
+                                        for k, (c, c1) in enumerate(zip(confs, confs[1:] + confs[-1:]))]))
     if poses:
-        _check_angles_match(problem, confs, poses, problems)
-    _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs])),
-                          "configurations", problems)
+        _check_angles_match(problem, confs, starts, poses, problems)
+    _check_held_and_rules(problem, lambda p: starts[:, p], "configurations", problems)
 
     def step(k: int) -> tuple[np.ndarray, np.ndarray]:
-        a0 = problem.angles_deg(confs[k])
+        a0 = starts[k]
         if k + 1 >= len(confs):
             return a0, np.zeros_like(a0)
-        delta = _step_delta(confs[k], confs[k + 1], steps, wraps, k, problems)
-        return a0, problem.angles_deg(confs[k] + delta) - a0
+        _step_delta(confs[k], confs[k + 1], steps, wraps, k, problems)  # its report, in the step's turn
+        return a0, ends[k] - a0
 
     return at_target, checker.check(step, len(confs), "configuration 0", problems)
 
@@ -423,13 +426,13 @@ def _check_trajectory_motion(problem: Problem, poses: np.ndarray, checker: Motio
     return at_target, checker.check(_pose_steps(list(poses), None), len(poses), "pose 0", problems)
 
 
-def _check_angles_match(problem: Problem, confs: list[np.ndarray], poses: list[np.ndarray],
+def _check_angles_match(problem: Problem, confs: list[np.ndarray], angles: np.ndarray, poses: list[np.ndarray],
                         problems: list[str]) -> None:
-    """``angles_deg`` given besides the configurations must be theirs."""
+    """``angles_deg`` given besides the configurations must be theirs (``angles``)."""
     if len(confs) != len(poses):
         problems.append(f"angles_deg has {len(poses)} poses but configurations has {len(confs)}")
-    for k, (c, a) in enumerate(zip(confs, poses)):
-        bad = _angles_off(problem, a, problem.angles_deg(c))
+    for k, (c, a) in enumerate(zip(angles, poses)):
+        bad = _angles_off(problem, a, c)
         if len(bad):
             problems.append(f"angles_deg[{k}] are not the angles of configurations[{k}] (positioners {_ids(bad)})")
             return
