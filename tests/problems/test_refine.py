@@ -135,7 +135,7 @@ def test_the_command_line_plans_on_the_finer_lattice_and_check_validates_it(tmp_
     problem = tmp_path / "problem.json"
     problem.write_text(json.dumps(_case(140)))
     plan_file = tmp_path / "plan.json"
-    code, out, _ = _cli("solve", str(problem), "--no-refine", "--improve", "0", "--out", str(plan_file))
+    code, out, _ = _cli("solve", str(problem), "--no-refine", "--require-all", "--improve", "0", "--out", str(plan_file))
     assert code == 0 and out.startswith("INFEASIBLE") and "lattice" not in json.loads(plan_file.read_text())
     code, out, _ = _cli("solve", str(problem), "--improve", "0", "--speed", "30", "--out", str(plan_file))
     written = json.loads(plan_file.read_text())

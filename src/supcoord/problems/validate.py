@@ -280,7 +280,7 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
                         "configurations[0] is not the start")
         return _result(False, 0, 0, problems, len(confs) - 1, None)
     if plan.angles_deg:
-        _check_angles_match(problem, confs, plan.angles_deg, problems)
+        _check_angles_match(problem, confs, problem.angles_deg(np.stack(confs)), list(plan.angles_deg), problems)
     _check_held_and_rules(problem, lambda p: problem.kin(p).joint_angles_deg(np.array([c[p] for c in confs[:k + 1]])),
                           "repair", problems)
 

@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from .validate_motion import TIE, TOLERANCE, Bodies, MotionCheck, step_distances
+from .validate_motion import TIE, TOLERANCE, Bodies, MotionCheck, pieces_distances
 
 __all__ = ["check_repair_phase", "CLOSER_TOLERANCE"]
 
@@ -49,7 +49,7 @@ def check_repair_phase(problem, bases: np.ndarray, moved: tuple[int, ...], count
         ``step(j)``: the angles ``(N, J)`` (degrees) of configuration ``j`` and the turn to
         configuration ``j + 1``.
     resolution : float
-        The first sampling step (mm) of :func:`~.validate_motion.step_distances`.
+        The first sampling step (mm) of :func:`~.validate_motion.pieces_distances`.
     problems : list of str
         Each broken rule is appended as one line.
 
@@ -86,7 +86,7 @@ def check_repair_phase(problem, bases: np.ndarray, moved: tuple[int, ...], count
         begin = _static(bodies, a0, ia, ib, need, resolution)
         closer = begin < need - TIE
         want = np.where(closer, begin - CLOSER_TOLERANCE, need - TIE)
-        dmin, _, (u, deep) = step_distances(bodies, a0, turn, ia, ib, bodies.travel(turn), want, resolution)
+        dmin, u, deep = _step_distances(bodies, a0, turn, ia, ib, want, resolution)
         unsure, depth = unsure + u, max(depth, deep)
         for h in np.nonzero(dmin < want)[0]:
             found += 1
@@ -109,5 +109,12 @@ def check_repair_phase(problem, bases: np.ndarray, moved: tuple[int, ...], count
 def _static(bodies: Bodies, angles: np.ndarray, ia: np.ndarray, ib: np.ndarray, need: np.ndarray,
             resolution: float) -> np.ndarray:
     """Distances (mm) of the pairs ``(ia, ib)`` at the padded ``angles``."""
-    return step_distances(bodies, angles, np.zeros_like(angles), ia, ib, bodies.travel(np.zeros_like(angles)),
-                          need, resolution)[0]
+    return _step_distances(bodies, angles, np.zeros_like(angles), ia, ib, need, resolution)[0]
+
+
+def _step_distances(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, ia: np.ndarray, ib: np.ndarray,
+                    need: np.ndarray, resolution: float) -> tuple[np.ndarray, int, float]:
+    """One step ``a0 + t·turn`` (padded angles, degrees): each pair's least distance (mm), the
+    pairs left open and the deepest collision they could hide (:func:`~.validate_motion.pieces_distances`)."""
+    dmin, _, unsure, deep = pieces_distances(bodies, a0[None], turn[None], ia, ib, need, resolution)
+    return dmin[0], int(unsure[0]), float(deep[0])
