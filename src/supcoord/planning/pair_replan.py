@@ -49,7 +49,7 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     """New trajectories ``(τ_r, τ_b)`` (length ``horizon + 1``) of neighbours ``r`` and ``b``
     (pair ``k`` of the problem, ``side`` = ``r``'s) planned together (module docstring), if
     both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
-    plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured).
+    plan's trajectories (its ``layer_masks`` and ``stay_from`` with ``absent`` honoured).
     None too where the pair's product of positions exceeds :data:`PAIR_STATES` (not tried)."""
     npos = len(rp.pos)
     if npos * npos > PAIR_STATES:
@@ -72,16 +72,15 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     return None
 
 
-def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, list[list[np.ndarray]]]:
+def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, np.ndarray]:
     """``(stay, masks)`` of ``x`` against every trajectory but ``other``'s: whether it may stand
     at ``goal`` from step ``t`` on (``stay[t]``), and ``masks[t][u]``: the positions from which
     it may do option ``u`` during step ``t``."""
     saved = set(rp.absent)
     try:
         rp.absent = saved | {other}
-        rp.prefetch(x, horizon)
         stay = rp.stay_from(x, goal, horizon)
-        masks = [[rp.allowed_mask(x, t, u) for u in range(len(rp.deltas))] for t in range(horizon)]
+        masks = rp.layer_masks(x)
     finally:
         rp.absent = saved
     return stay, masks
@@ -119,8 +118,8 @@ class _PairMotions:
         return state == 1
 
 
-def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: list[np.ndarray],
-           masks_b: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: np.ndarray,
+           masks_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(parents, reach')``: the pair states one step after ``reach`` and the parent of each
     (flat ``i · P + j``, −1 where none: the first in option order)."""
     npos, n_opt = len(rp.pos), len(rp.deltas)
