@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from collections import OrderedDict
 from typing import Any, Callable
 
 import numpy as np
@@ -64,6 +65,9 @@ __all__ = ["improve_plan", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REP
 #: the default work budget of :func:`improve_plan` (space-time re-plannings tried)
 REPLANS_PER_POSITIONER = 4
 MIN_REPLANS = 200
+#: positioners whose masks (:meth:`_Replanner.layer_masks`, ``steps × options × positions``
+#: Booleans: 120 kB for 20 steps on a 36 × 19 lattice) are kept, the latest used
+LAYERS_KEPT = 256
 
 
 def _trajectories(problem: Problem, confs: list[np.ndarray]) -> np.ndarray:
@@ -105,7 +109,7 @@ class _Replanner:
         self.traj = _trajectories(problem, confs)
         self.stats = stats
         self.absent: set[int] = set()  # positioners being re-planned (not obstacles yet)
-        self.merged_cache: dict[tuple, np.ndarray] = {}
+        self.merged_cache: dict[Any, Any] = {}  # merged motions by key; "pairs": pair_replan's latest tables
         self.merged = MergedMotions(problem, self.pos, self.deltas, self.n_single, self.nxt, self.merged_cache)
         self._options: dict[int, np.ndarray] = {}  # options(), per positioner
         #: a number per trajectory, new whenever one changes (from :attr:`_clock`): what a
@@ -114,7 +118,8 @@ class _Replanner:
         self._clock = 0
         self._base: dict[int, np.ndarray] = {}  # r -> r's own constraints, [option, position]
         self._blocks: dict[tuple, np.ndarray] = {}  # (geometry, v, j0, conflict) -> block[option, position]
-        self._layers: dict[int, tuple[tuple, np.ndarray]] = {}  # r -> (what it was computed from, masks)
+        #: r -> (what they were computed from, masks), the latest LAYERS_KEPT positioners used
+        self._layers: OrderedDict[int, tuple[tuple, np.ndarray]] = OrderedDict()
         self._hood: dict[int, np.ndarray] = {}  # r -> r and its neighbours up to two away
         self._failed: dict[tuple[bool, int], tuple[tuple, int]] = {}  # (wide, r) -> (what it read, replans)
 
@@ -216,14 +221,16 @@ class _Replanner:
         a present neighbour's trajectory changed (:attr:`version`)."""
         present = [(k, q, side) for k, q, side in self.nbrs[r] if q not in self.absent]
         key = (len(self.traj), tuple((q, int(self.version[q])) for _, q, _ in present))
-        cached = self._layers.get(r)
-        if cached is not None and cached[0] == key:
-            return cached[1]
-        masks = np.repeat(self.base(r)[None], len(self.traj) - 1, axis=0)
-        for k, q, side in present:
-            masks &= ~self.neighbour_blocks(r, k, q, side)
-        self._layers[r] = (key, masks)
-        return masks
+        cached = self._layers.pop(r, None)
+        if cached is None or cached[0] != key:
+            masks = np.repeat(self.base(r)[None], len(self.traj) - 1, axis=0)
+            for k, q, side in present:
+                masks &= ~self.neighbour_blocks(r, k, q, side)
+            cached = (key, masks)
+        self._layers[r] = cached
+        while len(self._layers) > LAYERS_KEPT:
+            self._layers.popitem(last=False)
+        return cached[1]
 
     def allowed_mask(self, r: int, t: int, u: int) -> np.ndarray:
         """Positions ``i`` of ``r`` from which option ``u`` during step ``t`` is free against all

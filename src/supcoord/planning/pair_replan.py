@@ -30,18 +30,24 @@ Reference
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
 
 from ..geometry.motion import prefiltered_motion_collides
 
-__all__ = ["pair_replan", "PAIR_STATES"]
+__all__ = ["pair_replan", "PAIR_STATES", "PAIRS_KEPT"]
 
 #: the largest product of two robots' positions re-planned together (``1,000²``: a 37 × 19
 #: lattice's 703² = 494,209 is, the APO wok's 73 × 37 = 2,701² is not: a boolean layer of
 #: 7.3 million states per step and 81 motion entries per state pair to remember)
 PAIR_STATES = 1_000_000
+#: the pairs whose motion verdicts are kept for their next re-plans (the latest used): a pair's
+#: table has ``options² · positions²`` entries, 38 MB on a 36 × 19 lattice (9² · 684²), so
+#: keeping every pair's grew with the number of pairs re-planned; a pair's verdicts are
+#: decided entry by entry, so one dropped and computed again gives the same Booleans
+PAIRS_KEPT = 8
 
 
 def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
@@ -89,7 +95,7 @@ def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, n
 class _PairMotions:
     """Whether ``r`` and ``b`` moving together over one step is free, for the entries asked
     (:func:`~supcoord.geometry.motion.prefiltered_motion_collides`), remembered in the
-    re-planner's cache for the pair's next calls."""
+    re-planner's cache for the pair's next calls (the :data:`PAIRS_KEPT` latest pairs)."""
 
     def __init__(self, rp: Any, r: int, b: int, k: int, side: int):
         self.rp, self.r, self.b = rp, r, b
@@ -99,9 +105,13 @@ class _PairMotions:
         self.bsum = float(problem.buffers[r] + problem.buffers[b])
         self.deltas = np.asarray(rp.deltas)
         npos, n_opt = len(rp.pos), len(rp.deltas)
-        known = rp.merged_cache.get(("pair", k, side))  # 0: not computed yet, 1 free, 2 collides
+        kept = rp.merged_cache.setdefault("pairs", OrderedDict())  # the latest pairs' tables, oldest first
+        known = kept.pop((k, side), None)  # 0: not computed yet, 1 free, 2 collides
         if known is None:
-            known = rp.merged_cache["pair", k, side] = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
+            known = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
+        kept[k, side] = known
+        while len(kept) > PAIRS_KEPT:
+            kept.popitem(last=False)
         self.known = known
 
     def free(self, u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
