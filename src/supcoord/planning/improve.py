@@ -136,6 +136,16 @@ class _Replanner:
             options = self._options[r] = self.options_along(self.traj[:, r])
         return options
 
+    def option_of(self, r: int, t: int) -> int:
+        """The option index of ``r``'s step ``t``."""
+        return int(self.options(r)[t])
+
+    def prefetch(self, r: int, steps: int) -> None:
+        """Compute the masks of ``r`` (:meth:`layer_masks`), whose merged motions are decided
+        in one batch per neighbour; ``steps``: at most the plan's (kept for callers)."""
+        if steps > 0:
+            self.layer_masks(r)
+
     def set_trajectory(self, r: int, column: np.ndarray, version: int | None = None) -> None:
         """Give ``r`` the trajectory ``column``: a new :attr:`version` if it differs, or
         ``version`` (the one ``column`` had before: restoring an old trajectory)."""
