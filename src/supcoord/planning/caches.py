@@ -91,6 +91,9 @@ class PlanningCache:
         poses and deltas.
     free_simultaneous : dict
         :mod:`.optimum`'s ``F[u, v, i, j]`` tables by pair geometry key.
+    orders : dict
+        Variable orders of the conflict graph (:mod:`.graph_order`) by kind and member set:
+        a window grown by one robot is a new member set, so a new key.
     """
 
     blocked: PackedTables = field(default_factory=lambda: PackedTables(BLOCKED_CACHE_BYTES))
@@ -100,6 +103,7 @@ class PlanningCache:
     conflict_graph: Adjacency | None = None
     motions: dict[tuple, bool] = field(default_factory=dict)
     free_simultaneous: dict[tuple, NDArray[np.bool_]] = field(default_factory=dict)
+    orders: dict[tuple, tuple[int, ...]] = field(default_factory=dict)
 
 
 #: the caches by ``id`` of their tables; each entry is dropped when its tables are collected

@@ -17,7 +17,7 @@ References
 
 from __future__ import annotations
 
-from typing import Iterable
+from typing import Callable, Iterable
 
 import numpy as np
 from scipy.sparse import csr_array
@@ -25,6 +25,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..bdd.ordering import cuthill_mckee
 from ..problems.problem import Problem
+from .caches import caches_for
 from .guards import conflict_graph
 
 __all__ = ["conflict_components", "rcm_order", "cutwidth_order", "hex_order"]
@@ -53,11 +54,27 @@ def conflict_components(problem: Problem) -> list[list[int]]:
     return sorted(parts.values())  # disjoint sorted lists: by least member
 
 
+def _remembered(problem: Problem, key: tuple, compute: Callable[[], list[int]]) -> list[int]:
+    """``compute()``, kept in the problem's planning cache under ``key`` (the order's kind and
+    member set: the conflict graph is fixed, so equal keys give equal orders)."""
+    orders = caches_for(problem).orders
+    out = orders.get(key)
+    if out is None:
+        out = orders[key] = tuple(compute())
+    return list(out)
+
+
 def rcm_order(problem: Problem, members: Iterable[int] | None = None) -> list[int]:
     """Reverse Cuthill–McKee order of the conflict graph (induced on ``members`` if
     given): each connected part in the :func:`~supcoord.bdd.ordering.cuthill_mckee` order
     reversed, the parts in order of their least member.  Conflicting positioners end up
-    close in the variable order (small bandwidth)."""
+    close in the variable order (small bandwidth).  Computed once per member set
+    (:attr:`.caches.PlanningCache.orders`)."""
+    key = ("rcm", None if members is None else tuple(sorted(set(int(p) for p in members))))
+    return _remembered(problem, key, lambda: _rcm(problem, key[1]))
+
+
+def _rcm(problem: Problem, members: Iterable[int] | None) -> list[int]:
     nodes, adj = _induced(problem, members)
     return [nodes[i] for part in cuthill_mckee(adj) for i in reversed(part)]
 
@@ -72,7 +89,15 @@ def cutwidth_order(problem: Problem, members: Iterable[int], exact_up_to: int = 
     reverse Cuthill–McKee minimises, only bounds it).  Exact dynamic programming over
     subsets up to ``exact_up_to`` members, :func:`rcm_order` beyond.  Measured on a
     6-robot alpha-beta window (a strip of triangles): 2 s for 13 forward layers in the
-    least-cutwidth order, 7 to 28 s in other orders of the same members."""
+    least-cutwidth order, 7 to 28 s in other orders of the same members.  Computed once per
+    member set (:attr:`.caches.PlanningCache.orders`): a window grown by a blocker is a new set."""
+    members = tuple(sorted(set(int(p) for p in members)))
+    return _remembered(problem, ("cutwidth", members, exact_up_to),
+                       lambda: _least_cutwidth(problem, members, exact_up_to))
+
+
+def _least_cutwidth(problem: Problem, members: tuple[int, ...], exact_up_to: int) -> list[int]:
+    """:func:`cutwidth_order`, computed."""
     nodes, adj = _induced(problem, members)
     n = len(nodes)
     if n > exact_up_to:

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from collections import OrderedDict
 from dataclasses import asdict, dataclass
 from typing import Any, Callable
 
@@ -65,6 +66,9 @@ __all__ = ["improve_plan", "ImproveStats", "default_replans", "REPLANS_PER_POSIT
 #: the default work budget of :func:`improve_plan` (space-time re-plannings tried)
 REPLANS_PER_POSITIONER = 4
 MIN_REPLANS = 200
+#: positioners whose masks (:meth:`_Replanner.layer_masks`, ``steps × options × positions``
+#: Booleans: 120 kB for 20 steps on a 36 × 19 lattice) are kept, the latest used
+LAYERS_KEPT = 256
 
 
 def _trajectories(problem: Problem, confs: list[np.ndarray]) -> np.ndarray:
@@ -106,94 +110,157 @@ class _Replanner:
         self.traj = _trajectories(problem, confs)
         self.stats = stats
         self.absent: set[int] = set()  # positioners being re-planned (not obstacles yet)
-        self.merged_cache: dict[tuple, np.ndarray] = {}
+        self.merged_cache: dict[Any, Any] = {}  # merged motions by key; "pairs": pair_replan's latest tables
         self.merged = MergedMotions(problem, self.pos, self.deltas, self.n_single, self.nxt, self.merged_cache)
-        self._options: dict[int, list[int]] = {}  # option_of, per positioner
+        self._options: dict[int, np.ndarray] = {}  # options(), per positioner
+        #: a number per trajectory, new whenever one changes (from :attr:`_clock`): what a
+        #: cached answer was computed from; an old trajectory restored gets its old number back
+        self.version = np.zeros(problem.n, dtype=np.int64)
+        self._clock = 0
+        self._base: dict[int, np.ndarray] = {}  # r -> r's own constraints, [option, position]
+        self._blocks: dict[tuple, np.ndarray] = {}  # (geometry, v, j0, conflict) -> block[option, position]
+        #: r -> (what they were computed from, masks), the latest LAYERS_KEPT positioners used
+        self._layers: OrderedDict[int, tuple[tuple, np.ndarray]] = OrderedDict()
+        self._hood: dict[int, np.ndarray] = {}  # r -> r and its neighbours up to two away
+        self._failed: dict[tuple[bool, int], tuple[tuple, int]] = {}  # (wide, r) -> (what it read, replans)
 
-    def option_of(self, r: int, t: int) -> int:
-        """The option index of ``r``'s step ``t`` (computed per trajectory, until it changes)."""
+    def options_along(self, column: np.ndarray) -> np.ndarray:
+        """The option index of each step of the trajectory ``column`` (flat positions)."""
+        pos = self.pos
+        deltas = self.kin.signed_delta(pos[column[:-1]], pos[column[1:]]).reshape(len(column) - 1, -1)
+        return np.array([self.delta_of[tuple(d)] for d in deltas.tolist()], dtype=np.int64)
+
+    def options(self, r: int) -> np.ndarray:
+        """The option index of each of ``r``'s steps (computed per trajectory, until it changes)."""
         options = self._options.get(r)
         if options is None:
-            pos, column = self.pos, self.traj[:, r]
-            deltas = self.kin.signed_delta(pos[column[:-1]], pos[column[1:]]).reshape(len(column) - 1, -1)
-            options = self._options[r] = [self.delta_of[tuple(int(v) for v in d)] for d in deltas.tolist()]
-        return options[t]
+            options = self._options[r] = self.options_along(self.traj[:, r])
+        return options
 
-    def set_trajectory(self, r: int, column: np.ndarray) -> None:
+    def option_of(self, r: int, t: int) -> int:
+        """The option index of ``r``'s step ``t``."""
+        return int(self.options(r)[t])
+
+    def prefetch(self, r: int, steps: int) -> None:
+        """Compute the masks of ``r`` (:meth:`layer_masks`), whose merged motions are decided
+        in one batch per neighbour; ``steps``: at most the plan's (kept for callers)."""
+        if steps > 0:
+            self.layer_masks(r)
+
+    def set_trajectory(self, r: int, column: np.ndarray, version: int | None = None) -> None:
+        """Give ``r`` the trajectory ``column``: a new :attr:`version` if it differs, or
+        ``version`` (the one ``column`` had before: restoring an old trajectory)."""
+        if not np.array_equal(self.traj[:, r], column):
+            self._options.pop(r, None)
+            if version is None:
+                self._clock += 1
+                version = self._clock
         self.traj[:, r] = column
-        self._options.pop(r, None)
+        if version is not None:
+            self.version[r] = version
 
     def finish(self, r: int) -> int:
         """``f_r``: the step after ``r``'s last move (0: it never moves)."""
         moved = np.nonzero(self.traj[1:, r] != self.traj[:-1, r])[0]
         return int(moved[-1]) + 1 if len(moved) else 0
 
-    def allowed_mask(self, r: int, t: int, u: int) -> np.ndarray:
-        """Positions ``i`` of ``r`` from which option ``u`` during step ``t`` is free against all neighbours."""
-        ok = self.nxt[u] >= 0
-        unary = self.problem.unary().get(r)
-        if unary is not None and u < self.n_single:  # r's own constraints (obstacles, held)
-            ok = ok & ~(unary[0] if u == 0 else unary[1][u - 1])
-        elif unary is not None:  # several joints at once
-            key = ("own", r, u)
-            if key not in self.merged_cache:
-                own = np.ones(len(self.pos), dtype=bool)
-                sel = np.nonzero(ok)[0]
-                own[sel] = self.problem.own_motion_blocked(r, self.pos[sel], self.deltas[u])
-                self.merged_cache[key] = own
-            ok = ok & ~self.merged_cache[key]
-        for k, q, side in self.nbrs[r]:
-            if q in self.absent:
-                continue
-            j0, j1 = int(self.traj[t, q]), int(self.traj[t + 1, q])
-            v = 0 if j0 == j1 else self.option_of(q, t)
-            if u == 0 and v == 0:
-                if (r, q) in self.conflict:
-                    ok &= ~(self.tables.static_line(k, at_b=j0) if side == 0 else self.tables.static_line(k, at_a=j0))
-            elif u == 0 and v < self.n_single:  # q turns one joint past a standing r: q's swept table
-                if (r, q) in self.conflict:
-                    # swept(k, 1 − side)[move of q, at_a, at_b], q at j0
-                    ok &= ~(self.tables.swept_line(k, 1 - side, v - 1, at_b=j0) if side == 0 else
-                            self.tables.swept_line(k, 1 - side, v - 1, at_a=j0))
-            elif v == 0 and u < self.n_single:  # r turns one joint past a standing q: r's swept table
-                ok &= ~(self.tables.swept_line(k, side, u - 1, at_b=j0) if side == 0 else
-                        self.tables.swept_line(k, side, u - 1, at_a=j0))
-            else:  # both move, or several joints at once: the merged motion, for every position of r at once
-                ok &= ~self.merged.hits(k, side, v, j0)[u]
+    def base(self, r: int) -> np.ndarray:
+        """``base[u, i]``: ``r`` may do option ``u`` from ``i`` by its own constraints (hard
+        stops, obstacles, held joints), whatever its neighbours do."""
+        ok = self._base.get(r)
+        if ok is None:
+            ok = self.nxt >= 0
+            unary = self.problem.unary().get(r)
+            if unary is not None:
+                ok[0] &= ~unary[0]
+                for u in range(1, self.n_single):
+                    ok[u] &= ~unary[1][u - 1]
+                for u in range(self.n_single, len(self.deltas)):  # several joints at once
+                    sel = np.nonzero(ok[u])[0]
+                    ok[u, sel] = ~self.problem.own_motion_blocked(r, self.pos[sel], self.deltas[u])
+            self._base[r] = ok
         return ok
 
-    def prefetch(self, r: int, steps: int) -> None:
-        """Compute, one batch per neighbour, the merged motions (:meth:`.MergedMotions.hits`)
-        that :meth:`allowed_mask` will read for ``r`` during steps ``0 … steps − 1`` (each
-        moving step of a present neighbour): the certified motions are many small numpy operations, so one call per
-        pair instead of one per step (the same Booleans: every entry is decided on its own).
-        ``benchmarks/vs_kaiju.py`` on the APO wok: 15–35 s CPU an instance against 17–41 s
-        before, with the same plans."""
-        for k, q, side in self.nbrs[r]:
-            if q in self.absent:
-                continue
-            column = self.traj[:steps + 1, q]
-            wanted = []
-            for t in np.nonzero(column[1:] != column[:-1])[0].tolist():
-                v, j0 = self.option_of(q, t), int(column[t])
-                if not self.merged.known(k, side, v, j0) and (v, j0) not in wanted:
-                    wanted.append((v, j0))
-            if wanted:
-                self.merged.compute(k, side, wanted)
+    def block(self, k: int, side: int, conflict: bool, v: int, j0: int) -> np.ndarray:
+        """``block[u, i]``: ``r`` (pair ``k``'s member on ``side``) doing option ``u`` from ``i`` hits
+        its neighbour doing option ``v`` from ``j0`` during the same step (``conflict``: the pair
+        is in the conflict graph; only then do the neighbour's swept and static tables count
+        against a standing ``r``).  Cached per pair geometry: equal keys, equal tables."""
+        key = self.merged.key(k, side, v, j0) + (conflict,)
+        out = self._blocks.get(key)
+        if out is not None:
+            return out
+        tables, n_single = self.tables, self.n_single
+        out = np.zeros((len(self.deltas), len(self.pos)), dtype=bool)
+        at = {"at_b": j0} if side == 0 else {"at_a": j0}
+        if v == 0 and conflict:
+            out[0] = tables.static_line(k, **at)
+        elif v < n_single and conflict:  # q turns one joint past a standing r: q's swept table
+            out[0] = tables.swept_line(k, 1 - side, v - 1, **at)
+        for u in range(1, len(self.deltas)):
+            if v == 0 and u < n_single:  # r turns one joint past a standing q: r's swept table
+                out[u] = tables.swept_line(k, side, u - 1, **at)
+            else:  # both move, or several joints at once: the merged motion
+                out[u] = self.merged.hits(k, side, v, j0)[u]
+        if v >= n_single:  # q moves several joints past a standing r
+            out[0] = self.merged.hits(k, side, v, j0)[0]
+        self._blocks[key] = out
+        return out
 
-    def stay_from(self, r: int, goal: int, horizon: int) -> list[bool]:
+    def neighbour_blocks(self, r: int, k: int, q: int, side: int) -> np.ndarray:
+        """``out[t, u, i]``: ``r`` doing ``u`` from ``i`` during step ``t`` hits ``q`` doing its
+        step ``t`` of the plan (:meth:`block` per distinct step of ``q``; the merged motions
+        they need computed in one batch, :meth:`.MergedMotions.compute`)."""
+        npos = len(self.pos)
+        steps = len(self.traj) - 1  # the options may be those of a trajectory since cut short
+        codes = self.options(q)[:steps] * npos + self.traj[:-1, q]
+        uniq, inverse = np.unique(codes, return_inverse=True)
+        conflict = (r, q) in self.conflict
+        wanted = [(int(c) // npos, int(c) % npos) for c in uniq.tolist()]
+        missing = [(v, j0) for v, j0 in wanted if (v > 0 or len(self.deltas) > self.n_single)
+                   and self.merged.key(k, side, v, j0) + (conflict,) not in self._blocks
+                   and not self.merged.known(k, side, v, j0)]
+        if missing:
+            self.merged.compute(k, side, missing)
+        return np.stack([self.block(k, side, conflict, v, j0) for v, j0 in wanted])[inverse.ravel()]
+
+    def layer_masks(self, r: int) -> np.ndarray:
+        """``masks[t, u, i]``: ``r`` may do option ``u`` from ``i`` during step ``t`` against its own
+        constraints and every present neighbour's step ``t``, for every step of the plan at once.
+
+        Kept per positioner and recomputed only when the plan's length, the absent neighbours or
+        a present neighbour's trajectory changed (:attr:`version`)."""
+        present = [(k, q, side) for k, q, side in self.nbrs[r] if q not in self.absent]
+        key = (len(self.traj), tuple((q, int(self.version[q])) for _, q, _ in present))
+        cached = self._layers.pop(r, None)
+        if cached is None or cached[0] != key:
+            masks = np.repeat(self.base(r)[None], len(self.traj) - 1, axis=0)
+            for k, q, side in present:
+                masks &= ~self.neighbour_blocks(r, k, q, side)
+            cached = (key, masks)
+        self._layers[r] = cached
+        while len(self._layers) > LAYERS_KEPT:
+            self._layers.popitem(last=False)
+        return cached[1]
+
+    def allowed_mask(self, r: int, t: int, u: int) -> np.ndarray:
+        """Positions ``i`` of ``r`` from which option ``u`` during step ``t`` is free against all
+        present neighbours (a row of :meth:`layer_masks`)."""
+        return self.layer_masks(r)[t, u]
+
+    def stay_from(self, r: int, goal: int, horizon: int) -> np.ndarray:
         """``stay_from[t]``: may ``r`` stand at ``goal`` during steps ``t … horizon − 1``?"""
-        stay = [bool(self.allowed_mask(r, t, 0)[goal]) for t in range(horizon)]
-        stay_from = [True] * (horizon + 1)
-        for t in range(horizon - 1, -1, -1):
-            stay_from[t] = stay_from[t + 1] and stay[t]
-        return stay_from
+        stay = np.append(self.layer_masks(r)[:horizon, 0, goal], True)
+        return np.logical_and.accumulate(stay[::-1])[::-1]
 
     def replan(self, r: int, horizon: int, before: int) -> np.ndarray | None:
-        """``r``'s earliest-arrival trajectory (length ``horizon + 1``) if it arrives before ``before``."""
+        """``r``'s earliest-arrival trajectory (length ``horizon + 1``) if it arrives before ``before``.
+
+        Each step's successors come from every option at once; a position reached by several
+        gets the parent of the first in (option, position) order."""
         npos = len(self.pos)
         goal = int(self.kin.flat_index(self.problem.target[r]))
-        self.prefetch(r, horizon)
+        masks = self.layer_masks(r)
         stay_from = self.stay_from(r, goal, horizon)
         reach = np.zeros(npos, dtype=bool)
         reach[int(self.traj[0, r])] = True
@@ -203,17 +270,15 @@ class _Replanner:
                 break
             if t == horizon:
                 return None
+            us, idx = np.nonzero(masks[t] & reach)
+            dst = self.nxt[us, idx]
+            first = np.unique(dst, return_index=True)[1]
             par = np.full(npos, -1, dtype=np.int64)
-            new = np.zeros(npos, dtype=bool)
-            for u in range(len(self.deltas)):
-                idx = np.nonzero(reach & self.allowed_mask(r, t, u))[0]
-                dst = self.nxt[u, idx]
-                fresh = ~new[dst]
-                par[dst[fresh]] = idx[fresh]
-                new[dst] = True
+            par[dst[first]] = idx[first]
+            reach = np.zeros(npos, dtype=bool)
+            reach[dst] = True
             parents.append(par)
-            reach = new
-            if not reach.any():
+            if not len(dst):
                 return None
         else:
             return None
@@ -230,7 +295,7 @@ class _Replanner:
     def regroup(self, group: list[int], horizon: int) -> bool:
         """Re-plan ``group`` one by one (prioritised, in this order, the rest of the group
         ignored until planned); keep it if the group's last arrival comes earlier."""
-        old = self.traj[:, group].copy()
+        old, versions = self.traj[:, group].copy(), self.version[group].copy()
         old_last = max(self.finish(g) for g in group)
         self.absent.update(group)
         ok = True
@@ -244,8 +309,8 @@ class _Replanner:
             self.set_trajectory(g, new)
         self.absent.clear()
         if not ok:
-            for g, column in zip(group, old.T):
-                self.set_trajectory(g, column)
+            for g, column, version in zip(group, old.T, versions.tolist()):
+                self.set_trajectory(g, column, version)
         return ok
 
     def _first_group(self, groups: list[list[int]], horizon: int) -> bool:
@@ -260,14 +325,13 @@ class _Replanner:
         path = self.replan(r, horizon, horizon + 1)
         self.stats["replans"] += 1
         first: dict[int, int] = {}
-        for t in range(horizon if path is not None else 0):
-            i, j = int(path[t]), int(path[t + 1])
-            u = 0 if i == j else self.delta_of[tuple(int(v) for v in self.kin.signed_delta(self.pos[i], self.pos[j]))]
-            for q in near:
-                if q not in first:
-                    self.absent = set(near) - {q}
-                    if not self.allowed_mask(r, t, u)[i]:
-                        first[q] = t
+        if path is not None:
+            u, i = self.options_along(path[:horizon + 1]), path[:horizon]
+            own = ~self.base(r)[u, i]
+            for k, q, side in self.nbrs[r]:
+                hit = own | self.neighbour_blocks(r, k, q, side)[np.arange(horizon), u, i]
+                if hit.any():
+                    first[q] = int(np.argmax(hit))
         self.absent = set()
         return sorted(first, key=lambda q: (first[q], q))
 
@@ -283,11 +347,49 @@ class _Replanner:
         self.set_trajectory(q, new[1])
         return True
 
+    def attempt(self, r: int, horizon: int, wide: bool) -> bool:
+        """Shorten ``r``'s part of the plan: groups of one to three with its latest neighbours
+        (``wide``: groups of up to five with the neighbours in its way, then a neighbour in its
+        way re-planned with it together).  Did it?"""
+        finish = self.finish
+        late = sorted((q for _, q, _ in self.nbrs[r] if finish(q) > 0), key=lambda q: (-finish(q), q))
+        groups = [[r], [r] + late[:1], [r] + late[:2], late[:2] + [r]]
+        if not wide:
+            return self._first_group(groups, horizon)
+        blockers = self.blockers(r, horizon)
+        if self._first_group(_blocker_groups(r, blockers, groups), horizon):
+            self.stats["improved_with_blockers"] += 1
+        elif any(self.replan_pair(r, q, horizon) for q in blockers[:2]):
+            self.stats["improved_with_pairs"] += 1
+        else:
+            return False
+        return True
+
+    def remembered_attempt(self, r: int, horizon: int, wide: bool) -> bool:
+        """:meth:`attempt`, unless the same attempt failed before with every trajectory it reads
+        unchanged (``r`` and the positioners up to two neighbours away, :attr:`version`) and the
+        same plan length: then it fails again, and its re-plannings are counted again, so that
+        the work budget and the plan are those of the attempt made afresh."""
+        hood = self._hood.get(r)
+        if hood is None:
+            near = {q for _, q, _ in self.nbrs[r]}
+            hood = self._hood[r] = np.array(sorted(near.union(*({x for _, x, _ in self.nbrs[q]} for q in near),
+                                                               {r})), dtype=np.int64)
+        key = (horizon, self.version[hood].tobytes())
+        failed = self._failed.get((wide, r))
+        if failed is not None and failed[0] == key:
+            self.stats["replans"] += failed[1]
+            self.stats["remembered"] += 1
+            return False
+        before = self.stats["replans"]
+        if self.attempt(r, horizon, wide):
+            return True
+        self._failed[wide, r] = (key, self.stats["replans"] - before)
+        return False
+
     def round(self, max_replans: int, check: Callable[[], None] | None = None, wide: bool = False) -> bool:
-        """One round over the positioners that set the makespan, latest first (groups of
-        one to three with their latest neighbours; ``wide``: groups of up to five with the
-        neighbours in its way, then a neighbour in its way re-planned with it together);
-        trailing idle steps dropped.  Did it improve anything?"""
+        """One round over the positioners that set the makespan, latest first
+        (:meth:`remembered_attempt`); trailing idle steps dropped.  Did it improve anything?"""
         improved = False
         horizon = len(self.traj) - 1
         finish = self.finish
@@ -298,22 +400,9 @@ class _Replanner:
                 check()
             if finish(r) < horizon - 1:
                 break  # only the positioners that set the makespan
-            late = sorted((q for _, q, _ in self.nbrs[r] if finish(q) > 0), key=lambda q: (-finish(q), q))
-            groups = [[r], [r] + late[:1], [r] + late[:2], late[:2] + [r]]
-            if not wide:
-                if self._first_group(groups, horizon):
-                    self.stats["improved"] += 1
-                    improved = True
-                continue
-            blockers = self.blockers(r, horizon)
-            if self._first_group(_blocker_groups(r, blockers, groups), horizon):
-                self.stats["improved_with_blockers"] += 1
-            elif any(self.replan_pair(r, q, horizon) for q in blockers[:2]):
-                self.stats["improved_with_pairs"] += 1
-            else:
-                continue
-            self.stats["improved"] += 1
-            improved = True
+            if self.remembered_attempt(r, horizon, wide):
+                self.stats["improved"] += 1
+                improved = True
         last = max(finish(r) for r in range(self.problem.n))
         self.traj = self.traj[:last + 1]
         return improved
@@ -370,18 +459,27 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
         max_replans = default_replans(problem.n)
     kin = problem.kinematics
     stats: dict[str, Any] = {"makespan_before": len(confs) - 1, "replans": 0, "improved": 0, "improved_with_blockers": 0,
-                             "improved_with_pairs": 0,
+                             "improved_with_pairs": 0, "remembered": 0,
                              "max_replans": int(max_replans)}
     rp = _Replanner(problem, confs, stats)
-    improved = True
-    floor = lower_bound(problem)  # no plan is shorter: nothing left to gain
-    while improved and stats["replans"] < max_replans and len(rp.traj) - 1 > floor:
-        # the wide groups only where the narrow ones are stuck
-        improved = rp.round(max_replans, check) or rp.round(max_replans, check, wide=True)
+    _run_rounds(rp, max_replans, lower_bound(problem), check)
     stats["makespan_after"] = len(rp.traj) - 1
     stats["seconds"] = time.perf_counter() - t0
     out = [rp.pos[row] for row in rp.traj]
     return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], ImproveStats(**stats)
+
+
+def _run_rounds(rp: _Replanner, max_replans: int, floor: int, check: Callable[[], None] | None = None) -> None:
+    """Rounds of ``rp`` until one improves nothing, ``max_replans`` re-plannings were tried or
+    the plan is ``floor`` steps long; ``rp.stats["rounds"]`` gets ``(re-plannings so far,
+    makespan, CPU seconds)`` after each pair of rounds."""
+    improved = True
+    t0 = time.process_time()
+    rounds = rp.stats.setdefault("rounds", [])
+    while improved and rp.stats["replans"] < max_replans and len(rp.traj) - 1 > floor:
+        # the wide groups only where the narrow ones are stuck
+        improved = rp.round(max_replans, check) or rp.round(max_replans, check, wide=True)
+        rounds.append((rp.stats["replans"], len(rp.traj) - 1, round(time.process_time() - t0, 3)))
 
 
 def default_replans(positioners: int) -> int:

@@ -30,18 +30,24 @@ Reference
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
 
 from ..geometry.motion import prefiltered_motion_collides
 
-__all__ = ["pair_replan", "PAIR_STATES"]
+__all__ = ["pair_replan", "PAIR_STATES", "PAIRS_KEPT"]
 
 #: the largest product of two robots' positions re-planned together (``1,000²``: a 37 × 19
 #: lattice's 703² = 494,209 is, the APO wok's 73 × 37 = 2,701² is not: a boolean layer of
 #: 7.3 million states per step and 81 motion entries per state pair to remember)
 PAIR_STATES = 1_000_000
+#: the pairs whose motion verdicts are kept for their next re-plans (the latest used): a pair's
+#: table has ``options² · positions²`` entries, 38 MB on a 36 × 19 lattice (9² · 684²), so
+#: keeping every pair's grew with the number of pairs re-planned; a pair's verdicts are
+#: decided entry by entry, so one dropped and computed again gives the same Booleans
+PAIRS_KEPT = 8
 
 
 def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
@@ -49,7 +55,7 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     """New trajectories ``(τ_r, τ_b)`` (length ``horizon + 1``) of neighbours ``r`` and ``b``
     (pair ``k`` of the problem, ``side`` = ``r``'s) planned together (module docstring), if
     both arrive before step ``before``; ``rp``: the :mod:`.improve` re-planner holding the
-    plan's trajectories (its ``allowed_mask`` and ``stay_from`` with ``absent`` honoured).
+    plan's trajectories (its ``layer_masks`` and ``stay_from`` with ``absent`` honoured).
     None too where the pair's product of positions exceeds :data:`PAIR_STATES` (not tried)."""
     npos = len(rp.pos)
     if npos * npos > PAIR_STATES:
@@ -72,16 +78,15 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     return None
 
 
-def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, list[list[np.ndarray]]]:
+def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, np.ndarray]:
     """``(stay, masks)`` of ``x`` against every trajectory but ``other``'s: whether it may stand
     at ``goal`` from step ``t`` on (``stay[t]``), and ``masks[t][u]``: the positions from which
     it may do option ``u`` during step ``t``."""
     saved = set(rp.absent)
     try:
         rp.absent = saved | {other}
-        rp.prefetch(x, horizon)
         stay = rp.stay_from(x, goal, horizon)
-        masks = [[rp.allowed_mask(x, t, u) for u in range(len(rp.deltas))] for t in range(horizon)]
+        masks = rp.layer_masks(x)
     finally:
         rp.absent = saved
     return stay, masks
@@ -90,7 +95,7 @@ def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, l
 class _PairMotions:
     """Whether ``r`` and ``b`` moving together over one step is free, for the entries asked
     (:func:`~supcoord.geometry.motion.prefiltered_motion_collides`), remembered in the
-    re-planner's cache for the pair's next calls."""
+    re-planner's cache for the pair's next calls (the :data:`PAIRS_KEPT` latest pairs)."""
 
     def __init__(self, rp: Any, r: int, b: int, k: int, side: int):
         self.rp, self.r, self.b = rp, r, b
@@ -100,9 +105,13 @@ class _PairMotions:
         self.bsum = float(problem.buffers[r] + problem.buffers[b])
         self.deltas = np.asarray(rp.deltas)
         npos, n_opt = len(rp.pos), len(rp.deltas)
-        known = rp.merged_cache.get(("pair", k, side))  # 0: not computed yet, 1 free, 2 collides
+        kept = rp.merged_cache.setdefault("pairs", OrderedDict())  # the latest pairs' tables, oldest first
+        known = kept.pop((k, side), None)  # 0: not computed yet, 1 free, 2 collides
         if known is None:
-            known = rp.merged_cache["pair", k, side] = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
+            known = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
+        kept[k, side] = known
+        while len(kept) > PAIRS_KEPT:
+            kept.popitem(last=False)
         self.known = known
 
     def free(self, u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
@@ -119,8 +128,8 @@ class _PairMotions:
         return state == 1
 
 
-def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: list[np.ndarray],
-           masks_b: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: np.ndarray,
+           masks_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(parents, reach')``: the pair states one step after ``reach`` and the parent of each
     (flat ``i · P + j``, −1 where none: the first in option order)."""
     npos, n_opt = len(rp.pos), len(rp.deltas)
