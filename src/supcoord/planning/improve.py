@@ -425,7 +425,9 @@ class ImproveStats:
     (steps), the space-time re-plannings tried (``replans``, at most ``max_replans``), the
     groups that shortened the plan (``improved``; of them ``improved_with_blockers`` with the
     robots in the way, ``improved_with_pairs`` by a pair re-planned together) and the time
-    taken (``seconds``, wall clock)."""
+    taken (``seconds``, wall clock); ``remembered``: attempts not redone because nothing near
+    the robot changed since they failed; ``rounds``: after each pair of rounds, ``(re-plannings
+    so far, makespan, CPU seconds)``."""
 
     makespan_before: int
     replans: int
@@ -435,6 +437,8 @@ class ImproveStats:
     max_replans: int
     makespan_after: int
     seconds: float
+    remembered: int = 0
+    rounds: tuple[tuple[int, int, float], ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         """The statistics as a JSON object, in the order of the fields."""
@@ -466,7 +470,7 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
     stats["makespan_after"] = len(rp.traj) - 1
     stats["seconds"] = time.perf_counter() - t0
     out = [rp.pos[row] for row in rp.traj]
-    return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], ImproveStats(**stats)
+    return [np.asarray(c, dtype=np.int64).reshape(problem.n, kin.n_joints) for c in out], ImproveStats(**dict(stats, rounds=tuple(stats.get("rounds", ()))))
 
 
 def _run_rounds(rp: _Replanner, max_replans: int, floor: int, check: Callable[[], None] | None = None) -> None:
