@@ -101,7 +101,7 @@ def repair_start(problem: Problem) -> RepairResult:
     ...     "collision": {"buffer": 1.0}, "start": [0, 4, 0], "target": [4, 4, 4]})
     >>> r = repair_start(p)
     >>> r.repair.moved, r.repair.minimum, len(r.configurations) == r.repair.steps + 1
-    ((1,), True, True)
+    ((0,), True, True)
 
     References
     ----------
