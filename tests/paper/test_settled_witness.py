@@ -13,8 +13,8 @@ from supcoord.paper.literal import PaperInstance, hex_neighbours, hex_sites
 from supcoord.paper.run import coupled_instance
 from supcoord.paper.settled import settled_ccc, settled_ccc_naive
 from supcoord.paper.settled_bound import PatternBound
-from supcoord.paper.settled_graph import target_in_zone
-from supcoord.paper.settled_witness import _events, greedy_witness, replay
+from supcoord.paper.settled_graph import successor_events, target_in_zone
+from supcoord.paper.settled_witness import greedy_witness, replay
 
 
 def _random_models(seed: int, count: int):
@@ -80,8 +80,8 @@ def test_replay_refuses_strings_that_do_not_force_the_target():
         replay(model, swapped)
     state = (tuple(model.inst.start), (0,) * model.inst.size)
     for name in witness[:k]:
-        state = dict(_events(model, state, False) or _events(model, state, True))[name]
-    defined = [name for name, _ in _events(model, state, controllable=True)]  # defined, but preempted
+        state = dict(successor_events(model, state, False) or successor_events(model, state, True))[name]
+    defined = [name for name, _ in successor_events(model, state, controllable=True)]  # defined, but preempted
     assert defined
     with pytest.raises(ModelError, match=f"step {k + 1} of the witness cannot fire: an uncontrollable event is "
                                          f"pending"):

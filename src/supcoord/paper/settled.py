@@ -72,13 +72,11 @@ import time
 from dataclasses import dataclass
 
 from ..bdd.context import BDD, Context, ThrottledCheck
-from ..des.generator import event_key
 from ..errors import ModelError
 from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
-from .events import positioner_events
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
-from .settled_graph import SettledGraph, State, check_settled_route, settle, target_in_zone
+from .settled_graph import SettledGraph, State, check_settled_route, settle, successor_events, target_in_zone
 from .settled_witness import GREEDY_LIMIT, greedy_witness
 
 __all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
@@ -165,31 +163,18 @@ def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
     return O
 
 
-def _successors(model: CoupledModel, state: State, controllable: bool) -> list[tuple[str, State]]:
-    """The controllable (or uncontrollable) events defined at ``state`` with their
-    successors, by name (:func:`~supcoord.des.generator.event_key`)."""
-    pos, lvl = state
-    out = []
-    for i in range(len(pos)):
-        ev = positioner_events(i + 1)
-        for kind, (p, level) in model.successors(i, pos, lvl).items():
-            if ev[kind].controllable == controllable:
-                out.append((ev[kind].name, (pos[:i] + (p,) + pos[i + 1:], lvl[:i] + (level,) + lvl[i + 1:])))
-    return sorted(out, key=lambda s: event_key(s[0]))
-
-
 def _witness(graph: SettledGraph, O: list[BDD]) -> list[str]:
     """The witness :func:`~supcoord.synthesis.witness` reads from ``V``'s layers."""
     model, false = graph.model, graph.ctx.false
     x, left, path = graph.start_raw, len(O) - 1 + graph.start_cost, []
     while x != graph.target_raw:
-        pending = _successors(model, x, controllable=False)
+        pending = successor_events(model, x, controllable=False)
         if pending:  # the environment fires its smallest event (every one has rank − 1)
             name, x = pending[0]
             path.append(name)
             left -= 1
             continue
-        for name, z in _successors(model, x, controllable=True):  # least successor rank (left − 1), then name
+        for name, z in successor_events(model, x, controllable=True):  # least successor rank (left − 1), then name
             levels, cost = settle(model, *z)
             r = left - 1 - cost
             if r >= 0 and graph.code((z[0], levels)) & O[r] != false:
@@ -283,7 +268,7 @@ def settled_ccc_naive(model: CoupledModel) -> tuple[bool, int | None]:
             continue
         if y == target:
             return True, g
-        for _, z in _successors(model, y, controllable=True):
+        for _, z in successor_events(model, y, controllable=True):
             lv, d = settle(model, *z)
             nxt, w = (z[0], lv), 1 + d
             if g + w < best.get(nxt, g + w + 1):

@@ -32,6 +32,7 @@ import itertools
 from dataclasses import dataclass
 
 from ..bdd.context import BDD, Context, ThrottledCheck
+from ..des.generator import event_key
 from ..errors import InputError
 from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
@@ -39,7 +40,7 @@ from .events import positioner_events
 from .literal import ring_step
 from .settled_bound import GROUP_SIZE, PatternBound
 
-__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route"]
+__all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route", "successor_events"]
 
 State = tuple[tuple[int, ...], tuple[int, ...]]  # (positions, levels)
 
@@ -275,3 +276,16 @@ class SettledGraph:
     def heuristic(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where even the relaxation cannot reach the target."""
         return self.bound.value(pos)
+
+
+def successor_events(model: CoupledModel, state: State, controllable: bool) -> list[tuple[str, State]]:
+    """The controllable (or uncontrollable) events defined at ``state`` with their
+    successors, by name (:func:`~supcoord.des.generator.event_key`)."""
+    pos, lvl = state
+    out = []
+    for i in range(len(pos)):
+        ev = positioner_events(i + 1)
+        for kind, (p, level) in model.successors(i, pos, lvl).items():
+            if ev[kind].controllable == controllable:
+                out.append((ev[kind].name, (pos[:i] + (p,) + pos[i + 1:], lvl[:i] + (level,) + lvl[i + 1:])))
+    return sorted(out, key=lambda s: event_key(s[0]))

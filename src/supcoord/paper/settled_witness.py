@@ -30,12 +30,10 @@ from __future__ import annotations
 import heapq
 from dataclasses import dataclass
 
-from ..des.generator import event_key
 from ..errors import InputError, ModelError
 from .coupled import CoupledModel
-from .events import positioner_events
 from .settled_bound import PatternBound
-from .settled_graph import State, settle
+from .settled_graph import State, settle, successor_events
 
 __all__ = ["GREEDY_LIMIT", "GreedyWitness", "greedy_witness", "replay"]
 
@@ -63,22 +61,10 @@ class GreedyWitness:
     expanded: int
 
 
-def _events(model: CoupledModel, state: State, controllable: bool) -> list[tuple[str, State]]:
-    """The (un)controllable events defined at ``state`` and their successors, by name."""
-    pos, lvl = state
-    out = []
-    for i in range(len(pos)):
-        ev = positioner_events(i + 1)
-        for kind, (p, level) in model.successors(i, pos, lvl).items():
-            if ev[kind].controllable == controllable:
-                out.append((ev[kind].name, (pos[:i] + (p,) + pos[i + 1:], lvl[:i] + (level,) + lvl[i + 1:])))
-    return sorted(out, key=lambda s: event_key(s[0]))
-
-
 def _settled(model: CoupledModel, state: State, path: list[str]) -> State:
     """Fire the pending uncontrollable events of ``state``, smallest first, onto ``path``."""
     while True:
-        pending = _events(model, state, controllable=False)
+        pending = successor_events(model, state, controllable=False)
         if not pending:
             return state
         name, state = pending[0]
@@ -120,8 +106,8 @@ def replay(model: CoupledModel, witness: list[str] | tuple[str, ...]) -> int:
     size = model.inst.size
     state: State = (tuple(model.inst.start), (0,) * size)
     for step, name in enumerate(witness):
-        pending = _events(model, state, controllable=False)
-        allowed = dict(pending or _events(model, state, controllable=True))
+        pending = successor_events(model, state, controllable=False)
+        allowed = dict(pending or successor_events(model, state, controllable=True))
         if name not in allowed:
             why = "an uncontrollable event is pending" if pending else "it is not defined there"
             raise ModelError(f"event {name} at step {step + 1} of the witness cannot fire: {why}", value=name)
@@ -136,7 +122,7 @@ def _string(model: CoupledModel, moves: list[str]) -> list[str]:
     path: list[str] = []
     state = _settled(model, (tuple(model.inst.start), (0,) * model.inst.size), path)
     for name in moves:
-        state = dict(_events(model, state, controllable=True))[name]
+        state = dict(successor_events(model, state, controllable=True))[name]
         path.append(name)
         state = _settled(model, state, path)
     return path
@@ -194,7 +180,7 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
             witness = _string(model, moves[::-1])
             return GreedyWitness(tuple(witness), replay(model, witness), expanded)
         expanded += 1
-        for name, z in _events(model, y, controllable=True):
+        for name, z in successor_events(model, y, controllable=True):
             lv, d = settle(model, *z)
             nxt = (z[0], lv)
             if nxt in parent:
