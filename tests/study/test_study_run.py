@@ -376,3 +376,15 @@ def test_a_case_dying_of_a_signal_at_its_memory_limit_is_out_of_memory_not_a_cra
     rows = {json.loads(r["params"])["args"][0]: r for r in results_rows(tmp_path / "dies.sqlite")}
     assert rows[220]["status"] == "out-of-memory" and "SIGSEGV" in rows[220]["message"], rows[220]
     assert rows[20]["status"] == "crashed"  # far below its limit: a bug
+
+
+def test_a_small_case_run_by_a_large_runner_records_its_own_peak_memory(tmp_path):
+    """The kernel starts a child's ru_maxrss at its parent's resident size: the case reports its own."""
+    (tmp_path / "small.toml").write_text('[[cases]]\nkind = "call"\nfunction = "os:getpid"\n')
+    ballast = bytearray(600 * 2**20)
+    memoryview(ballast)[::4096] = b"x" * (len(ballast) // 4096)  # resident, page by page
+    summary = run_study(load_study(tmp_path / "small.toml"), workers=0, progress=None)
+    del ballast
+    (row,) = results_rows(tmp_path / "small.sqlite")
+    assert summary.statuses == {"ok": 1}
+    assert 5 < row["peak_rss_mb"] < 400, row["peak_rss_mb"]

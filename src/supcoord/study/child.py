@@ -14,7 +14,8 @@ kills it and anything it started, and a Ctrl-C at the terminal does not reach it
 3. becomes the subreaper of the processes the case starts, and kills them when the case
    ends (a case that forks leaves nothing running);
 4. runs the case (:func:`supcoord.study.case_run.run_case`) and writes its measurement
-   (:meth:`~supcoord.study.case_run.Measurement.to_json`) to ``RESULT.json`` (atomically:
+   (:meth:`~supcoord.study.case_run.Measurement.to_json`, with its own peak resident
+   memory) to ``RESULT.json`` (atomically:
    written beside it, then renamed), or, for an unexpected exception,
    ``{"status": "crashed", "message": ...}`` and exit status 1.
 """
@@ -119,8 +120,22 @@ def _run(task: dict, result_path: str) -> int:
         _write(result_path, {"status": "crashed", "message": f"{type(exc).__name__}: {' '.join(str(exc).split())}"[:500],
                              "extra": {"traceback": "".join(lines)[-2000:]}})
         return 1
-    _write(result_path, result.to_json())
+    _write(result_path, {**result.to_json(), "peak_rss_mb": _own_peak_mb()})
     return 0
+
+
+def _own_peak_mb() -> float | None:
+    """This process's peak resident memory (MB) from ``VmHWM``, which ``exec`` starts afresh;
+    the ``ru_maxrss`` its parent reads starts at the parent's resident size when it forked
+    (Linux), so it overstates a small case run by a large worker.  None where unknown."""
+    try:
+        with open("/proc/self/status", "rb") as f:
+            for line in f:
+                if line.startswith(b"VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
 
 
 if __name__ == "__main__":

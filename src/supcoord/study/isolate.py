@@ -2,8 +2,9 @@
 
 :func:`execute` is what a Dask worker (or the serial runner) calls for each case.  It
 starts ``python -m supcoord.study.child`` (:mod:`.child`) in a new session, waits for it
-with ``wait4`` — which also returns the child's resource usage: its peak resident memory
-(``ru_maxrss``) and CPU seconds — and kills the whole session at the time limit plus a
+with ``wait4`` — which also returns the child's resource usage: its CPU seconds and
+``ru_maxrss`` (the peak resident memory recorded when the child reports none itself: on
+Linux it starts at the runner's resident size) — and kills the whole session at the time limit plus a
 grace period (the library stops cleanly at the limit between two fixpoint iterations;
 the kill is for code that cannot be interrupted, such as one long BDD operation).
 
@@ -94,7 +95,7 @@ def execute(task: dict[str, Any], should_stop: Callable[[], bool] | None = None)
     if stopped:
         return {**row, "status": None}
     row.update(wall_seconds=wall, cpu_seconds=usage.ru_utime + usage.ru_stime, peak_rss_mb=usage.ru_maxrss / 1024)
-    row.update({k: v for k, v in result.items() if k != "extra"})
+    row.update({k: v for k, v in result.items() if k != "extra" and not (k == "peak_rss_mb" and v is None)})
     row["extra"] = result.get("extra") or {}
     if killed:
         row.update(status="timeout", message=f"killed {wall:.0f} s after its start: past the time limit of "
