@@ -46,7 +46,8 @@ def _expected_length(item: pytest.Item) -> float:
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Run the slow tests first, the longest declared time limit first, and the others in their
-    order: with ``-n 2`` the workers take the tests in this order, so the minute-long tests start
+    order: with ``-n 2`` the workers take the tests in this order, two at a time
+    (``--maxschedchunk=2`` in ``pyproject.toml``), so the minute-long tests start
     at once on both workers and the short ones fill the end, instead of one long test running
     alone at the end.  The sort is stable: tests of equal rank keep their order."""
     items.sort(key=lambda item: -_expected_length(item))

@@ -553,16 +553,17 @@ def _reference_allowed(rp, r, t, u):
 
 
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("batched", [False, True])
 @pytest.mark.parametrize("kind,seed", [("ab", 0), ("ab", 4), pytest.param("angles", 94, marks=pytest.mark.slow),
                                        pytest.param("obstacle", 94, marks=pytest.mark.slow),
                                        pytest.param("obstacle", 98, marks=pytest.mark.slow)])
-def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batched):
+def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed):
     """The re-planner reads swept tables where one robot stands and computes the motions of
     both only where it needs them (end-point bound first): every mask it gives equals the
     one read off the pairs' whole simultaneous tables, for every option, robot and step of a
-    plan (shared kinematics, and robots with their own lattices and obstacles); ``batched``:
-    the motions computed first in one batch per neighbour (:meth:`_Replanner.prefetch`)."""
+    plan (shared kinematics, and robots with their own lattices and obstacles); both for a
+    re-planner that computes each mask as it is asked and for one whose motions were computed
+    first in one batch per neighbour (:meth:`_Replanner.prefetch`), on the same plan, each
+    mask against one reference."""
     from supcoord.planning.improve import _Replanner
     from supcoord.problems.problem import parse_problem
     from supcoord.testing.oracle.tight_problems import tight_angle_problem
@@ -577,16 +578,19 @@ def test_improvement_masks_equal_the_whole_simultaneous_tables(kind, seed, batch
         assert bool(p.unary()) == (kind == "obstacle")
     plan = solve(p, improve=0, finer=None)
     assert plan.status == "complete" and plan.makespan >= 2
-    rp = _Replanner(p, [np.asarray(c) for c in plan.configurations], {"replans": 0, "improved": 0})
-    if batched:
-        for r in range(p.n):
-            rp.prefetch(r, plan.makespan)
-        assert rp.merged_cache
+    confs = [np.asarray(c) for c in plan.configurations]
+    batched = _Replanner(p, confs, {"replans": 0, "improved": 0})
+    for r in range(p.n):  # batched first, while no mask of this plan has been computed yet
+        batched.prefetch(r, plan.makespan)
+    assert batched.merged_cache
+    rp = _Replanner(p, confs, {"replans": 0, "improved": 0})
     checked = 0
     for r in range(p.n):
         for t in range(plan.makespan):
             for u in range(len(rp.deltas)):
-                assert np.array_equal(rp.allowed_mask(r, t, u), _reference_allowed(rp, r, t, u)), (r, t, u)
+                reference = _reference_allowed(rp, r, t, u)
+                assert np.array_equal(rp.allowed_mask(r, t, u), reference), (r, t, u)
+                assert np.array_equal(batched.allowed_mask(r, t, u), reference), ("batched", r, t, u)
                 checked += 1
     assert checked >= p.n * 2 * 9
 
