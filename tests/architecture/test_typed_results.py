@@ -5,11 +5,13 @@ import dataclasses
 
 import pytest
 
+from supcoord.geometry.collision import TableStatistics
 from supcoord.planning.improve import ImproveStats
 from supcoord.planning.optimum import MakespanResult
+from supcoord.planning.search import SearchStats
 from supcoord.problems.validation_result import Incident, ValidationResult
 
-RESULTS = [ValidationResult, Incident, ImproveStats, MakespanResult]
+RESULTS = [ValidationResult, Incident, ImproveStats, MakespanResult, SearchStats, TableStatistics]
 DICT_METHODS = ["__getitem__", "get", "keys", "items", "values", "__contains__", "__iter__"]
 
 
@@ -17,7 +19,10 @@ DICT_METHODS = ["__getitem__", "get", "keys", "items", "values", "__contains__",
 def test_results_are_frozen_dataclasses_without_a_dictionary_call_form(cls):
     assert dataclasses.is_dataclass(cls) and cls.__dataclass_params__.frozen
     assert [m for m in DICT_METHODS if hasattr(cls, m)] == []
-    assert callable(cls.to_json)
+
+
+def test_search_statistics_give_the_json_the_error_values_carried():
+    assert SearchStats(2, 1, 0.5).to_json() == {"forward": 2, "backward": 1, "seconds": 0.5}
 
 
 def test_a_result_refuses_a_subscript_and_its_json_is_made_from_its_fields():
