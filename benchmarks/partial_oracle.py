@@ -50,7 +50,7 @@ def check_case(seed: int, data: dict) -> dict:
             failures.append(f"optimal claimed with {plan.on_target} on target, oracle {best.on_target}")
         if not plan.on_target <= best.on_target <= plan.on_target_bound:
             failures.append(f"oracle {best.on_target} outside [{plan.on_target}, {plan.on_target_bound}]")
-        if not validate_plan(problem, plan)["valid"]:
+        if not validate_plan(problem, plan).valid:
             failures.append("the validator refuses the plan")
         ends = ends_at_start(data, [e.robot for e in plan.off_target])
         if oracle_check_steps(ends, plan.configurations) is not None:

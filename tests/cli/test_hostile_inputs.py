@@ -162,7 +162,7 @@ def test_validate_plan_never_raises_on_a_malformed_plan(solved, field, value):
     bad = copy.deepcopy(plan)
     object.__setattr__(bad, field, value)
     result = supcoord.validate_plan(problem, bad)
-    assert result["valid"] is False and result["problems"]
+    assert result.valid is False and result.problems
 
 
 def test_plan_of_another_problem_is_refused_by_the_figures(solved, tmp_path):

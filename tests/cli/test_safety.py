@@ -256,7 +256,7 @@ def test_validator_verdict_does_not_depend_on_the_resolution(resolution):
 
     problem, plan = _swing_through()
     result = validate_plan(problem, plan, resolution=resolution)
-    assert not result["valid"] and result["collisions"] == 1
+    assert not result.valid and result.collisions == 1
 
 
 @pytest.mark.parametrize("resolution", [0, -1, 1e-9, 1e6, float("inf"), float("nan"), "5", True])
@@ -274,7 +274,7 @@ def test_validator_reports_a_plan_for_another_problem():
 
     problem, _ = _swing_through()
     result = validate_plan(problem, Plan("complete", [[[1], [0], [0]], [[2], [0], [0]]], 1, 1, [], "", {}))
-    assert not result["valid"] and "another problem" in result["problems"][0]
+    assert not result.valid and "another problem" in result.problems[0]
 
 
 def test_check_cli_resolution_and_timeout(tmp_path):
@@ -411,4 +411,4 @@ def test_validator_takes_an_overlap_below_a_nanometre_for_the_rounding_of_a_touc
                              "kinematics": {"kind": "rotary", "arm": 15, "steps": 12},
                              "collision": {"buffer": 2}, "start": [0, 6], "target": [0, 6]}, check_collisions=False)
     result = validate_plan(problem, Plan("complete", [[[0], [6]]], 0, 0, [], "", {}))
-    assert result["valid"] is valid and result["collisions"] == (0 if valid else 1)
+    assert result.valid is valid and result.collisions == (0 if valid else 1)

@@ -60,7 +60,7 @@ def _valid_plan(three):
     # 1 turns down out of the way, 2 and 0 turn round, 1 finishes: nobody meets
     moves = [(1, 0, 1)] * 3 + [(2, 0, 1)] * 6 + [(0, 0, 1)] * 6 + [(1, 0, 1)] * 3
     plan = plan_from_moves(three, moves, compact=False)
-    assert validate_plan(three, plan)["valid"]
+    assert validate_plan(three, plan).valid
     return plan
 
 
@@ -113,7 +113,7 @@ def test_strip_is_a_grid_of_readable_panels(tmp_path, three):
 def test_incidents_figure_draws_each_collision(tmp_path, three):
     plan = _colliding_plan(three)
     result = validate_plan(three, plan)
-    assert result["incidents"]
+    assert result.incidents
     out = save_plan_figure(three, plan, tmp_path / "incidents.png", result)
     assert _red(Image.open(out)) > 1000
     with pytest.raises(InputError, match="no collision"):

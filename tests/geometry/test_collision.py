@@ -162,7 +162,7 @@ def test_collision_tables_share_by_offset_and_mirror():
         for mover in (0, 1):
             assert np.array_equal(tables.swept(k, mover), swept_table(kin, bases[a], bases[b], 4.0, mover))
     stats = tables.statistics()
-    assert stats["pairs"] == 12 and 0 < stats["colliding_fraction"] < 1
+    assert stats.pairs == 12 and 0 < stats.colliding_fraction < 1 and stats.positioners == len(bases)
 
 
 def test_distance_table_matches_segments():

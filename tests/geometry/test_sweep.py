@@ -112,7 +112,7 @@ def test_folded_beta_range_finds_the_elbow_pair():
     assert problem.pairs.tolist() == [[0, 1]]
     data["target"] = [[0, 0], [0, 0]]
     plan = solve(parse_problem(data))
-    assert plan.status == "complete" and validate_plan(parse_problem(data), plan)["valid"]
+    assert plan.status == "complete" and validate_plan(parse_problem(data), plan).valid
 
 
 def _tight_pass(clearance):
@@ -149,7 +149,7 @@ def test_tight_pass_is_free_and_solved(clearance):
     assert not swept_table(kin, (0, 0), base_b, 2.0, 0)[m, 0, 6]
     plan = solve(problem)
     assert plan.status == "complete" and plan.makespan == 1
-    assert validate_plan(problem, plan)["valid"]
+    assert validate_plan(problem, plan).valid
 
 
 @pytest.mark.timeout(60)
@@ -160,7 +160,7 @@ def test_tight_pass_that_grazes_is_blocked():
     assert not static_table(kin, (0, 0), base_b, 2.0)[0, 6] and not static_table(kin, (0, 0), base_b, 2.0)[1, 6]
     assert swept_table(kin, (0, 0), base_b, 2.0, 0)[m, 0, 6]
     plan = solve(problem)  # b has to turn out of the way and back
-    assert plan.status == "complete" and validate_plan(problem, plan)["valid"]
+    assert plan.status == "complete" and validate_plan(problem, plan).valid
     assert plan.stats["single_moves"] >= 3
     assert any(c[1] != 6 for c in plan.configurations)
 

@@ -77,7 +77,7 @@ def test_a_robot_without_neighbours_still_goes_round_an_obstacle(options):
                        "target": {"alpha_beta_deg": [[150.0, 0.0], [0.0, 180.0]]}}, "o.json")
     assert len(p.pairs) == 0 and set(p.unary()) == {0}
     plan = supcoord.solve(p, **options)
-    assert plan.status == "complete" and supcoord.validate_plan(p, plan)["valid"]
+    assert plan.status == "complete" and supcoord.validate_plan(p, plan).valid
     alpha = p.angles_deg(np.array(plan.configurations))[:, 0, 0]
     assert not np.any((alpha > 60.0) & (alpha < 150.0))  # never past the obstacle at 90 deg
     assert _clearance_along(p, plan, 0, [0.0, 15.0]) >= 2.0
@@ -101,7 +101,7 @@ def test_an_offline_robot_never_moves_and_the_others_avoid_it():
     confs = np.array(plan.configurations)
     assert np.all(confs[:, 1] == confs[0, 1])
     assert p.to_json()["offline"] == {"1": [160.0, 20.0]}
-    assert supcoord.validate_plan(p, plan)["valid"]
+    assert supcoord.validate_plan(p, plan).valid
     with pytest.raises(InputError, match=r"offline: '7' is not a robot index in \[0, 1\]"):
         _two([], [[0.0, 0.0], [0.0, 180.0]], [[180.0, 0.0], [0.0, 180.0]], offline={"7": [0, 0]})
 
@@ -180,4 +180,4 @@ def test_a_robot_with_an_obstacle_moving_two_joints_across_the_wrap_is_scheduled
     assert 0 in p.unary()
     for options in ({"improve": 0, "finer": None}, {}):
         plan = supcoord.solve(p, **options)
-        assert plan.status == "complete" and supcoord.validate_plan(p, plan)["valid"]
+        assert plan.status == "complete" and supcoord.validate_plan(p, plan).valid

@@ -82,7 +82,7 @@ def _assert_steps_valid(problem, c, steps):
         nxt = _after(problem, c, step)
         one = dataclasses.replace(problem, start=c, target=nxt)
         r = validate_plan(one, Plan("complete", [c, nxt]))
-        assert r["valid"], (k, step, c.tolist(), r["problems"][:2])
+        assert r.valid, (k, step, c.tolist(), r.problems[:2])
         c = nxt
     return c
 
@@ -123,7 +123,7 @@ def test_descent_steps_on_a_tight_lattice_pass_the_validator(dist, angle, data):
     problem = _pair(dist, angle, start, target)
     for conf in (problem.start, problem.target):  # start and target themselves must be free
         r = validate_plan(dataclasses.replace(problem, start=conf, target=conf), Plan("complete", [conf]))
-        if not r["valid"]:
+        if not r.valid:
             return
     steps, _ = descent(problem, problem.start.copy(), max_steps=12)
     _assert_steps_valid(problem, problem.start.copy(), steps)

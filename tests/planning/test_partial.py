@@ -36,7 +36,7 @@ def _check_against_oracle(data, plan, problem):
         assert plan.on_target == best.on_target, (off, best)
     assert plan.on_target <= best.on_target <= plan.on_target_bound
     result = validate_plan(problem, plan)
-    assert result["valid"] and result["at_target"] == plan.on_target, result["problems"]
+    assert result.valid and result.at_target == plan.on_target, result.problems
     assert oracle_check_steps(ends_at_start(data, off), plan.configurations) is None  # the oracle's replay
     for e in plan.off_target:
         assert e.end == "start" and e.certificate is not None and e.robot in e.certificate.members
@@ -109,7 +109,7 @@ def test_weighted_answers_agree_with_the_oracle(seed):
     p = parse_problem(dict(data, weight=weight))
     plan = solve(p)
     assert plan.optimal and sum(weight[e.robot] for e in plan.off_target) == _least_weight_oracle(data, weight)
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid
 
 
 FAR = {"layout": {"kind": "points", "xy": [[0.0, 0.0], [100.0, 0.0], [200.0, 0.0]]},
@@ -169,7 +169,7 @@ def test_a_budget_ending_during_the_search_names_the_undecided_robots():
     from supcoord.problems.plan import Plan
 
     plan = Plan("partial", found.plan.configurations, 0, 0, off_target=found.off_target)
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid
 
 
 @pytest.mark.parametrize("speed", [None, 10.0])
@@ -193,4 +193,4 @@ def test_solve_answers_partial_when_the_budget_ends_while_robots_are_left_out(mo
     assert plan.status == "partial" and plan.on_target == 0 and plan.optimal is False
     assert plan.stats["partial"]["method"] == "budget" and len(plan.configurations) == 1
     assert sorted(e.reason == BUDGET_REASON for e in plan.off_target) == [False, True, True]
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid

@@ -84,7 +84,7 @@ def test_symbolic_verdict_and_rank_equal_the_oracle(name, seed):
             assert oracle_solve(p.to_json(), members=plan.stats["certificate"]) is None
         else:
             result = validate_plan(p, plan)
-            assert result["valid"], result["problems"]
+            assert result.valid, result.problems
             assert plan.lower_bound <= plan.makespan <= distance <= plan.stats["single_moves"]
 
 
@@ -135,14 +135,14 @@ def test_local_and_monolithic_agree_on_grids(rings, seed):
     mono = solve(p, Monolithic(fixpoint="supervisor" if rings == 1 else "search"))
     assert local.status == mono.status == "complete"
     for plan in (local, mono):
-        assert validate_plan(p, plan)["valid"]
+        assert validate_plan(p, plan).valid
     assert mono.stats["single_moves"] <= local.stats["single_moves"]  # rank(q0): the shortest
 
 
 def test_alpha_beta_grid_plan_is_valid():
     p = random_problem({"kind": "hex", "rings": 1, "pitch": 22.4}, AB_SDSS, 2.0, seed=0, near=2)
     plan = solve(p)
-    assert plan.status == "complete" and validate_plan(p, plan)["valid"]
+    assert plan.status == "complete" and validate_plan(p, plan).valid
 
 
 def test_conflict_components_split_distant_groups():
@@ -151,7 +151,7 @@ def test_conflict_components_split_distant_groups():
     assert conflict_components(p) == [[0, 1], [2, 3]]
     plan = solve(p)
     assert plan.status == "complete" and plan.stats["components"] == 2
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid
 
 
 def test_schedule_never_longer_than_the_sequence_and_valid():
@@ -162,7 +162,7 @@ def test_schedule_never_longer_than_the_sequence_and_valid():
 
     confs = asap_schedule(p, moves)
     assert len(confs) - 1 <= length and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
+    assert validate_plan(p, Plan("complete", confs)).valid
 
 
 def test_optimal_makespan_is_a_yardstick():
@@ -258,12 +258,12 @@ def test_local_route_verdicts_equal_the_oracle(p):
         assert oracle_bounds(p.to_json(), members=sub)[1] is None  # really infeasible, the others removed
         assert _subproblem(p, sub).n == len(sub)
     else:
-        assert validate_plan(p, plan)["valid"]
+        assert validate_plan(p, plan).valid
         assert plan.lower_bound <= plan.makespan <= len(plan.events)
         assert lo is not None and lo <= len(plan.events)
     default = solve(p, when_incomplete="infeasible")  # with the simultaneous search: a plan wherever the single-move model has one
     if default.status == "complete":
-        assert validate_plan(p, default)["valid"]
+        assert validate_plan(p, default).valid
     else:
         assert plan.status == "infeasible" and default.stats["certificate_model"] in ("simultaneous", "single-move")
 
@@ -290,7 +290,7 @@ def test_descent_steps_are_serialisable_and_free_when_merged(seed, kind):
     data = p.to_json()
     data["target"] = [p.kinematics.position_to_json(q) for q in end]
     q = parse_problem(data)
-    assert validate_plan(q, Plan("complete", confs))["valid"]
+    assert validate_plan(q, Plan("complete", confs)).valid
     # the descent only moves positioners towards their targets: it never passes one
     dist = p.kinematics.joint_distance
     assert np.all(dist(end, p.target) <= dist(p.start, p.target))
@@ -371,7 +371,7 @@ def test_timeline_schedule_is_valid_and_never_longer_than_the_sequence(name, see
     length = len(moves)
     confs = timeline_schedule(p, moves)
     assert len(confs) - 1 <= length and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
+    assert validate_plan(p, Plan("complete", confs)).valid
 
 
 @pytest.mark.slow
@@ -381,7 +381,7 @@ def test_timeline_schedule_on_a_grid_plan_is_valid_and_shorter_than_asap():
     moves = [parse_event_(p, e) for e in plan.events]
     tl, asap = timeline_schedule(p, moves), asap_schedule(p, moves)
     for confs in (tl, asap):
-        assert validate_plan(p, Plan("complete", confs))["valid"]
+        assert validate_plan(p, Plan("complete", confs)).valid
     assert len(tl) <= len(asap)
 
 
@@ -398,7 +398,7 @@ def test_local_and_monolithic_agree_on_rotary_grids_tight_and_infeasible(pitch, 
     mono = solve(p, Monolithic(fixpoint="search"), when_incomplete="infeasible")
     assert local.status == mono.status
     if local.status == "complete":
-        assert validate_plan(p, local)["valid"] and validate_plan(p, mono)["valid"]
+        assert validate_plan(p, local).valid and validate_plan(p, mono).valid
     else:  # 18 mm pitch: arms overlap across the grid; both certify, the local one names fewer
         cert = local.stats["certificate"]
         assert len(cert) <= len(mono.stats["certificate"])
@@ -420,11 +420,11 @@ def test_local_and_monolithic_agree_on_alpha_beta_grids(pitch, seed):
     assert local.status == mono.status
     for plan in (local, mono):
         if plan.status == "complete":
-            assert validate_plan(p, plan)["valid"]
+            assert validate_plan(p, plan).valid
     refined = solve(p, when_incomplete="infeasible")
     assert refined.status == local.status or (refined.status == "complete" and refined.lattice is not None)
     if refined.status == "complete":
-        assert validate_plan(p, refined)["valid"]
+        assert validate_plan(p, refined).valid
 
 
 @pytest.mark.parametrize("layout,kin,seed,verdict", [
@@ -442,7 +442,7 @@ def test_window_caps_never_change_the_verdict(layout, kin, seed, verdict):
         assert tiny.status == verdict
         assert tiny.stats["windows_abandoned"] > 0  # the tiny cap was really hit
         if verdict == "complete":
-            assert validate_plan(p, tiny)["valid"]
+            assert validate_plan(p, tiny).valid
         else:  # a certificate whatever the caps, and a true one (the oracle, the others removed)
             cert = tiny.stats["certificate"]
             assert len(cert) < p.n and oracle_solve(p.to_json(), members=cert) is None
@@ -489,7 +489,7 @@ def test_improvement_keeps_plans_valid_and_never_longer(seed, kind):
     confs, stats = improve_plan(p, plan.configurations)
     assert len(confs) - 1 <= plan.makespan == stats.makespan_before
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
+    assert validate_plan(p, Plan("complete", confs)).valid
 
 
 def test_improvement_shortens_a_known_plan():
@@ -497,7 +497,7 @@ def test_improvement_shortens_a_known_plan():
     before = solve(p, improve=0)
     after = solve(p)
     assert after.makespan < before.makespan  # 14 -> 7 (the optimum, 7, is measured in bench_makespan)
-    assert validate_plan(p, after)["valid"]
+    assert validate_plan(p, after).valid
 
 
 @pytest.mark.timeout(60)
@@ -607,7 +607,7 @@ def _improved_valid(kind, seed, from_start=False):
         plan = plan_from_schedule(p, [parse_event_(p, e) for e in plan.events])
     confs, stats = improve_plan(p, plan.configurations)
     assert np.array_equal(confs[0], p.start) and np.array_equal(confs[-1], p.target)
-    assert validate_plan(p, Plan("complete", confs))["valid"]
+    assert validate_plan(p, Plan("complete", confs)).valid
     return p, plan, confs, stats
 
 
@@ -668,7 +668,7 @@ def test_a_plan_solved_the_other_way_is_the_mirror_of_the_exchanged_problems_pla
     for mine, theirs in zip(plan.configurations, other.configurations[::-1]):
         assert np.array_equal(mine, theirs)
     assert plan.motion_time_s == pytest.approx(other.motion_time_s, rel=1e-12)
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid
     moves = [parse_event_(p, e) for e in plan.events]
     visited = apply_moves(p, moves)
     assert all(_single_move_valid(p, c, move) for c, move in zip(visited, moves))

@@ -48,7 +48,7 @@ def check_against_oracle(data: dict, plan, p) -> int | None:
     if distance is None and plan.status == "complete":  # no single-move plan: one with simultaneous moves
         assert not plan.events and plan.stats["plan_model"] == "simultaneous"
         assert oracle_check_steps(data, plan.configurations) is None, data.get("seed")  # the oracle's own replay
-        assert validate_plan(p, plan)["valid"]
+        assert validate_plan(p, plan).valid
         return None
     assert plan.status == ("complete" if distance is not None else "infeasible"), (data.get("seed"), plan.reason)
     if distance is None:
@@ -64,7 +64,7 @@ def check_against_oracle(data: dict, plan, p) -> int | None:
                 assert oracle_optimal_makespan(data, members=cert if alone else None) is None, (data.get("seed"), cert)
     else:
         result = validate_plan(p, plan)
-        assert result["valid"], result["problems"]
+        assert result.valid, result.problems
         assert len(plan.events) == plan.stats["single_moves"] >= distance
         assert plan.lower_bound <= plan.makespan
     return distance
@@ -113,7 +113,7 @@ def test_monolithic_rank_is_the_oracle_distance(data, supervisor):
         assert plan.stats["certificate"] == list(range(p.n)) and "exhaustive search" in plan.reason
     else:
         assert plan.stats["single_moves"] == distance  # rank(q0): the length of a shortest plan
-        assert validate_plan(p, plan)["valid"]
+        assert validate_plan(p, plan).valid
 
 
 #: round numbers: arms 15 mm on bases 19 mm apart with buffers of 2 mm touch at exactly
@@ -140,7 +140,7 @@ def test_answers_at_exact_touches_lie_between_the_oracle_bounds(name, seed):
         assert plan.status == "infeasible"
     if plan.status == "complete":
         assert lo is not None and plan.stats["single_moves"] >= lo
-        assert validate_plan(p, plan)["valid"]
+        assert validate_plan(p, plan).valid
     else:
         assert oracle_bounds(data, members=plan.stats["certificate"])[1] is None
 
@@ -155,7 +155,7 @@ def test_a_route_with_half_a_micrometre_of_clearance_is_planned(route):
     assert oracle_solve(data) == 3
     plan = solve(p, route=route)
     assert plan.status == "complete", plan.reason
-    assert plan.stats["single_moves"] == 3 and validate_plan(p, plan)["valid"]
+    assert plan.stats["single_moves"] == 3 and validate_plan(p, plan).valid
 
 
 @pytest.mark.timeout(60)

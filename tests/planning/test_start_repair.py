@@ -85,7 +85,7 @@ def test_random_colliding_starts_repaired_with_the_fewest_robots():
         plan = Plan("complete", result.configurations + [problem.target], repair=result.repair)
         # the repair phase itself passes the validator's rule (the plan's last step may not)
         check = validate_plan(problem, plan)
-        assert not [p for p in check["problems"] if p.startswith("repair")], check["problems"]
+        assert not [p for p in check.problems if p.startswith("repair")], check.problems
     assert minimum >= 22, f"only {minimum} of {seen} repairs moved the fewest robots"
 
 
@@ -102,7 +102,7 @@ def test_solve_from_a_colliding_start_is_complete_and_valid():
             continue
         done += 1
         assert plan.repair is not None and plan.configurations[0].ravel().tolist() == data["start"]
-        assert validate_plan(problem, plan)["valid"]
+        assert validate_plan(problem, plan).valid
         k = plan.repair.steps
         assert not oracle_pairs(data, plan.configurations[k].ravel().tolist())
 
@@ -123,22 +123,22 @@ def test_validator_accepts_a_repair_that_moves_the_pair_apart():
     problem, plan = two_robot_plan([1, 2, 3, 4, 5, 6])  # -15°, -30°, ...: away from robot 1
     assert start_collisions(problem) == [(0, 1)]
     check = validate_plan(problem, plan)
-    assert check["valid"], check["problems"]
+    assert check.valid, check.problems
 
 
 def test_validator_rejects_a_repair_that_brings_a_colliding_pair_closer():
     problem, plan = two_robot_plan([1, 0, 23, 22, 21, 20, 19, 18])  # towards robot 1 (θ = 0) and past it
     check = validate_plan(problem, plan)
-    assert not check["valid"]
-    assert any("repair step 0->1" in p and "closer than" in p for p in check["problems"]), check["problems"]
-    assert not any("repair step 1->2" in p for p in check["problems"]), check["problems"]  # 0 -> 23: apart
+    assert not check.valid
+    assert any("repair step 0->1" in p and "closer than" in p for p in check.problems), check.problems
+    assert not any("repair step 1->2" in p for p in check.problems), check.problems  # 0 -> 23: apart
 
 
 def test_validator_rejects_a_repair_that_leaves_the_pair_colliding():
     problem, plan = two_robot_plan([1])
     check = validate_plan(problem, plan)
-    assert not check["valid"]
-    assert any("still collides" in p for p in check["problems"]), check["problems"]
+    assert not check.valid
+    assert any("still collides" in p for p in check.problems), check.problems
 
 
 def test_validator_rejects_a_robot_moved_that_is_in_no_colliding_pair():
@@ -146,11 +146,11 @@ def test_validator_rejects_a_robot_moved_that_is_in_no_colliding_pair():
     problem = parse_problem_any_start(dict(three, start=[1, 12, 0], target=[6, 12, 0]))
     confs = [np.array([[q], [12], [0]]) for q in (1, 2, 3, 4, 5, 6)]
     plan = Plan("complete", confs, repair=Repair((0, 2), 5, True, 1))
-    assert any("positioners [2] are in no pair colliding" in p for p in validate_plan(problem, plan)["problems"])
+    assert any("positioners [2] are in no pair colliding" in p for p in validate_plan(problem, plan).problems)
     confs = [np.array([[q], [12], [0 if k < 2 else 1]]) for k, q in enumerate((1, 2, 3, 4, 5, 6))]
     bad = dataclasses.replace(plan, configurations=confs, repair=Repair((0,), 5, True, 1))
     assert any("positioners [2] move but are not in repair.moved" in p
-               for p in validate_plan(problem, bad)["problems"])
+               for p in validate_plan(problem, bad).problems)
 
 
 def test_held_robots_never_move_in_a_repair_and_two_held_ones_refused():
@@ -184,4 +184,4 @@ def test_a_robot_squeezed_between_two_is_not_moved_closer_to_either():
     result = repair_start(problem)
     assert result.repair.moved == (1, 2) and result.repair.lower_bound == 1 and not result.repair.minimum
     plan = Plan("complete", result.configurations + [problem.target], repair=result.repair)
-    assert not [p for p in validate_plan(problem, plan)["problems"] if p.startswith("repair")]
+    assert not [p for p in validate_plan(problem, plan).problems if p.startswith("repair")]

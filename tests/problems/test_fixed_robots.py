@@ -25,7 +25,7 @@ def test_fixed_robots_stay_at_their_start_in_the_plan():
     assert plan.status == "complete"
     for p in (2, 6):
         assert all(c[p, 0] == 0 for c in plan.configurations)
-    assert validate_plan(problem, plan)["valid"]
+    assert validate_plan(problem, plan).valid
 
 
 def test_the_validator_refuses_a_plan_that_moves_a_fixed_robot():
@@ -36,7 +36,7 @@ def test_the_validator_refuses_a_plan_that_moves_a_fixed_robot():
     moved_3[-1][2] = 0  # ends at its start, but moved on the way
     plan.configurations = moved_3
     check = validate_plan(kept, plan)
-    assert not check["valid"] and any("offline positioners 2 move" in p for p in check["problems"])
+    assert not check.valid and any("offline positioners 2 move" in p for p in check.problems)
 
 
 def test_keep_fixed_is_the_same_as_the_file_field():

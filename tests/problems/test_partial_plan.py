@@ -28,7 +28,7 @@ def _partial(configurations, entries=(ENTRY,)):
 def test_a_partial_plan_is_valid_when_the_listed_robots_end_at_their_starts():
     p = parse_problem(FAR)
     r = validate_plan(p, _partial([[0, 0], [1, 0]]))
-    assert r["valid"] and r["at_target"] == 1, r["problems"]
+    assert r.valid and r.at_target == 1, r.problems
 
 
 @pytest.mark.parametrize("configurations, entries, why", [
@@ -38,12 +38,12 @@ def test_a_partial_plan_is_valid_when_the_listed_robots_end_at_their_starts():
     ([[0, 0], [1, 0]], (ENTRY, ENTRY), "robot 1 listed twice"),
 ])
 def test_a_partial_plan_is_invalid_otherwise(configurations, entries, why):
-    assert not validate_plan(parse_problem(FAR), _partial(configurations, entries))["valid"], why
+    assert not validate_plan(parse_problem(FAR), _partial(configurations, entries)).valid, why
 
 
 def test_a_complete_plan_must_still_reach_every_target():
     plan = Plan("complete", [np.array([[0], [0]]), np.array([[1], [0]])])
-    assert not validate_plan(parse_problem(FAR), plan)["valid"]
+    assert not validate_plan(parse_problem(FAR), plan).valid
 
 
 def test_a_partial_plan_given_by_angles_alone_is_checked_the_same_way():
@@ -52,9 +52,9 @@ def test_a_partial_plan_given_by_angles_alone_is_checked_the_same_way():
     plan.angles_deg = [p.angles_deg(c) for c in plan.configurations]
     plan.configurations = []
     r = validate_plan(p, plan)
-    assert r["valid"] and r["at_target"] == 1, r["problems"]
+    assert r.valid and r.at_target == 1, r.problems
     plan.angles_deg[-1] = p.angles_deg(np.array([[1], [1]]))
-    assert not validate_plan(p, plan)["valid"]
+    assert not validate_plan(p, plan).valid
 
 
 def test_plan_json_reads_back_what_it_wrote():
@@ -63,7 +63,7 @@ def test_plan_json_reads_back_what_it_wrote():
     back = parse_plan(json.loads(json.dumps(plan.to_json(p))), p)
     assert back.status == "partial" and back.off_target == plan.off_target
     assert (back.on_target, back.optimal, back.on_target_bound) == (1, True, 1)
-    assert validate_plan(p, back)["valid"]
+    assert validate_plan(p, back).valid
 
 
 def _entry(**change):

@@ -81,9 +81,9 @@ def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed
     # what `supcoord check` reads: the plan's file, validated on the lattice it names
     back = parse_plan(json.loads(json.dumps(plan.to_json(p))), p)
     assert back.lattice == plan.lattice
-    assert validate_plan(p, back)["valid"]
+    assert validate_plan(p, back).valid
     back.lattice = None  # the same indices read on the problem's own lattice are another motion
-    assert not validate_plan(p, back)["valid"]
+    assert not validate_plan(p, back).valid
 
 
 @pytest.mark.timeout(120)

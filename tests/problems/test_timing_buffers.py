@@ -45,18 +45,18 @@ def test_a_move_near_a_neighbour_with_a_large_buffer_waits_for_it(buffers):
     # robot has the small buffer (twice the small one, 0.4 mm, would call them apart)
     problem, confs = _three(buffers)
     assert [list(map(int, p)) for p in problem.pairs] == [[0, 1], [1, 2]]
-    assert validate_plan(problem, Plan("complete", confs, makespan=3))["valid"]
+    assert validate_plan(problem, Plan("complete", confs, makespan=3)).valid
     stats: dict = {}
     trajs, total = plan_trajectories(problem, confs, 15.0, stats)
     assert stats["apart"] == 0 and stats["ordered"] == 2
     assert total == pytest.approx(6.0 + 6.0 + 40.0 / 15.0)  # robot 0 waits for robot 1, which waits for 2
     r = validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))
-    assert r["valid"], r["problems"]
+    assert r.valid, r.problems
     # the order is needed: robot 0 turning at once meets robot 1's arm (3.5 mm < 6.2 mm)
     eager = [dict(t) for t in trajs]
     eager[0]["alpha"] = np.array([[0.0, 40.0], [40.0 / 15.0, 0.0], [total, 0.0]])
     r = validate_plan(problem, Plan("complete", trajectories=eager, motion_time_s=total))
-    assert not r["valid"] and "positioners 0 and 1 collide" in r["problems"][0]
+    assert not r.valid and "positioners 0 and 1 collide" in r.problems[0]
 
 
 # --- random plans of robots that differ -----------------------------------------------------
@@ -93,7 +93,7 @@ def walks(draw):
     steps = [j.steps for j in k.joints]
     c = np.array([[draw(st.integers(0, s - 1)) for s in steps] for _ in range(n)])
     one = dataclasses.replace(problem, start=c, target=c)
-    assume(validate_plan(one, Plan("complete", [c]))["valid"])
+    assume(validate_plan(one, Plan("complete", [c])).valid)
     confs = [c]
     for _ in range(draw(st.integers(2, 7))):
         nxt = confs[-1].copy()
@@ -106,7 +106,7 @@ def walks(draw):
                 if 0 <= v < steps[j]:
                     nxt[p, j] = v
         step = dataclasses.replace(problem, start=confs[-1], target=nxt)
-        if np.array_equal(nxt, confs[-1]) or not validate_plan(step, Plan("complete", [confs[-1], nxt]))["valid"]:
+        if np.array_equal(nxt, confs[-1]) or not validate_plan(step, Plan("complete", [confs[-1], nxt])).valid:
             continue
         confs.append(nxt)
     assume(len(confs) > 2)
@@ -118,12 +118,12 @@ def walks(draw):
 @given(case=walks(), speed=st.sampled_from([5.0, 15.0]))
 def test_timed_plans_of_robots_that_differ_pass_the_validator(case, speed):
     problem, confs = case
-    assert validate_plan(problem, Plan("complete", confs))["valid"]
+    assert validate_plan(problem, Plan("complete", confs)).valid
     stats: dict = {}
     trajs, total = plan_trajectories(problem, confs, speed, stats)
     assert total <= stats["lockstep_s"] + 1e-9
     r = validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))
-    assert r["valid"], r["problems"][:3]
+    assert r.valid, r.problems[:3]
 
 
 # --- the timing itself -------------------------------------------------------------------------

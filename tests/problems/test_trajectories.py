@@ -86,8 +86,8 @@ def test_solved_plan_angles_are_the_problems_angles(solved, kind, tmp_path):
         assert r1.keys() == r2.keys() and all(np.array_equal(r1[k], r2[k]) for k in r1)
     assert back.to_json(problem) == data
     result = validate_plan(problem, back)
-    assert result["valid"], result["problems"]
-    assert result["motion_time_s"] == pytest.approx(plan.motion_time_s)
+    assert result.valid, result.problems
+    assert result.motion_time_s == pytest.approx(plan.motion_time_s)
 
 
 def test_solve_without_speed_has_angles_but_no_trajectories():
@@ -119,9 +119,9 @@ def test_robots_far_apart_keep_their_own_time():
     plan = with_motion(Plan("complete", confs), problem, v)
     assert plan.motion_time_s == total
     r = validate_plan(problem, Plan("complete", trajectories=plan.trajectories, motion_time_s=total))
-    assert r["valid"] and r["motion_time_s"] == pytest.approx(total), r["problems"]
+    assert r.valid and r.motion_time_s == pytest.approx(total), r.problems
     r = validate_plan(problem, Plan("complete", trajectories=plan.trajectories, motion_time_s=total + 1))
-    assert not r["valid"] and "motion_time_s" in r["problems"][0]
+    assert not r.valid and "motion_time_s" in r.problems[0]
 
 
 def test_a_move_that_can_meet_a_neighbours_earlier_move_waits_for_it():
@@ -134,7 +134,7 @@ def test_a_move_that_can_meet_a_neighbours_earlier_move_waits_for_it():
     problem = parse_problem(data)
     assert [list(map(int, pq)) for pq in problem.pairs] == [[0, 1]]
     confs = [np.array(c) for c in ([[1, 0], [2, 0], [2, 0]], [[1, 0], [1, 0], [2, 0]], [[0, 0], [1, 0], [1, 0]])]
-    assert validate_plan(problem, Plan("complete", confs, makespan=2))["valid"]
+    assert validate_plan(problem, Plan("complete", confs, makespan=2)).valid
     v = 15.0
     trajs, total = plan_trajectories(problem, confs, v)
     assert total == pytest.approx(12.0)
@@ -142,12 +142,12 @@ def test_a_move_that_can_meet_a_neighbours_earlier_move_waits_for_it():
     assert np.allclose(trajs[0]["alpha"], [[0, 90], [6, 90], [12, 0]])  # waits for robot 1's move
     assert np.allclose(trajs[2]["alpha"], [[0, 180], [6, 90], [12, 90]])  # does not wait for step 0
     r = validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))
-    assert r["valid"], r["problems"]
+    assert r.valid, r.problems
     # the wait is needed: robot 0 moving at once reaches robot 1's arm
     eager = copy.deepcopy(trajs)
     eager[0]["alpha"] = np.array([[0, 90.0], [6, 0.0], [12, 0.0]])
     r = validate_plan(problem, Plan("complete", trajectories=eager, motion_time_s=total))
-    assert not r["valid"] and "positioners 0 and 1 collide" in r["problems"][0]
+    assert not r.valid and "positioners 0 and 1 collide" in r.problems[0]
 
 
 def test_moves_whose_sweeps_stay_apart_do_not_wait_for_each_other():
@@ -159,7 +159,7 @@ def test_moves_whose_sweeps_stay_apart_do_not_wait_for_each_other():
             "collision": {"buffer": 2.0}, "start": [[1, 0], [2, 0]], "target": [[2, 0], [1, 0]]}
     problem = parse_problem(data)
     confs = [np.array(c) for c in ([[1, 0], [2, 0]], [[1, 0], [1, 0]], [[2, 0], [1, 0]])]
-    assert validate_plan(problem, Plan("complete", confs, makespan=2))["valid"]
+    assert validate_plan(problem, Plan("complete", confs, makespan=2)).valid
     trajs, total = plan_trajectories(problem, confs, 15.0)
     assert total == pytest.approx(6.0)
     assert np.allclose(trajs[0]["alpha"], [[0, 90], [6, 180]])
@@ -173,8 +173,8 @@ def test_a_wrapping_joint_turns_the_short_way_in_the_trajectory():
     plan = with_motion(Plan("complete", [np.array([[11]]), np.array([[0]]), np.array([[1]])]), problem, 30.0)
     assert np.allclose(np.array(plan.angles_deg)[:, 0, 0], [30, 0, 330])
     assert np.allclose(plan.trajectories[0]["theta"], [[0, 30], [2, -30]])  # continuous, one breakpoint pair
-    assert validate_plan(problem, Plan("complete", trajectories=plan.trajectories))["valid"]
-    assert validate_plan(problem, Plan("complete", angles_deg=plan.angles_deg))["valid"]
+    assert validate_plan(problem, Plan("complete", trajectories=plan.trajectories)).valid
+    assert validate_plan(problem, Plan("complete", angles_deg=plan.angles_deg)).valid
 
 
 def test_cli_csv_matches_the_json(tmp_path):
@@ -210,7 +210,7 @@ def test_angle_only_and_trajectory_only_plans_validate(solved, kind, tmp_path):
         data = dict({"status": "complete"}, **only)
         parsed = parse_plan(json.loads(json.dumps(data)), problem, "plan.json")
         r = validate_plan(problem, parsed)
-        assert r["valid"] and r["at_target"] == problem.n and r["collisions"] == 0, r["problems"]
+        assert r.valid and r.at_target == problem.n and r.collisions == 0, r.problems
         pf, lf = tmp_path / "p.json", tmp_path / "plan.json"
         problem.dump(pf)
         lf.write_text(json.dumps(data))
@@ -225,21 +225,21 @@ def test_mutated_angle_plans_are_caught(solved):
     collide = [a.copy() for a in poses]
     collide[k][0, 0], collide[k][1, 0] = 0.0, 180.0  # 0 points at 1 while 1 points back at 0
     r = validate_plan(problem, Plan("complete", angles_deg=collide))
-    assert not r["valid"] and r["collisions"] > 0
-    assert any("positioners 0 and 1 collide" in p for p in r["problems"])
+    assert not r.valid and r.collisions > 0
+    assert any("positioners 0 and 1 collide" in p for p in r.problems)
     late = [a.copy() for a in poses]
     late[-1][2, 0] += 0.01
     r = validate_plan(problem, Plan("complete", angles_deg=late))
-    assert not r["valid"] and any("does not end at the target" in p for p in r["problems"]) and r["at_target"] == 2
+    assert not r.valid and any("does not end at the target" in p for p in r.problems) and r.at_target == 2
     trajs = copy.deepcopy(plan.trajectories)
     trajs[1]["theta"][-1, 1] += 0.01
     r = validate_plan(problem, Plan("complete", trajectories=trajs))
-    assert not r["valid"] and any("does not end at the target" in p for p in r["problems"])
+    assert not r.valid and any("does not end at the target" in p for p in r.problems)
     # given besides the configurations, angles and trajectories must agree with them
     r = validate_plan(problem, dataclasses.replace(plan, angles_deg=late))
-    assert not r["valid"] and any("are not the angles of configurations" in p for p in r["problems"])
+    assert not r.valid and any("are not the angles of configurations" in p for p in r.problems)
     r = validate_plan(problem, dataclasses.replace(plan, trajectories=trajs))
-    assert not r["valid"] and any(p.startswith("trajectories: ") for p in r["problems"])
+    assert not r.valid and any(p.startswith("trajectories: ") for p in r.problems)
 
 
 def test_beta_beyond_its_range_is_caught(solved):
@@ -247,11 +247,11 @@ def test_beta_beyond_its_range_is_caught(solved):
     poses = [a.copy() for a in plan.angles_deg]
     poses[1][0, 1] = 181.0
     r = validate_plan(problem, Plan("complete", angles_deg=poses))
-    assert not r["valid"] and any("pose 1: positioners 0 are out of the joint ranges" in p for p in r["problems"])
+    assert not r.valid and any("pose 1: positioners 0 are out of the joint ranges" in p for p in r.problems)
     trajs = copy.deepcopy(plan.trajectories)
     trajs[2]["beta"] = np.vstack([trajs[2]["beta"][:1], [[0.5, -3.0]], trajs[2]["beta"][1:]])
     r = validate_plan(problem, Plan("complete", trajectories=trajs))
-    assert not r["valid"] and any("out of the joint ranges" in p for p in r["problems"])
+    assert not r.valid and any("out of the joint ranges" in p for p in r.problems)
 
 
 def test_a_swept_collision_between_two_poses_is_found_by_bisection():
@@ -266,8 +266,8 @@ def test_a_swept_collision_between_two_poses_is_found_by_bisection():
                  Plan("complete", trajectories=[{"theta": np.array([[0, 0], [1, -90]])},
                                                 {"theta": np.array([[0, 0]])}])):
         r = validate_plan(problem, plan, resolution=100.0)
-        assert not r["valid"] and r["collisions"] == 1, r
-        assert 1 / 3 - 0.02 <= r["incidents"][0]["t"] <= 0.5 + 0.02
+        assert not r.valid and r.collisions == 1, r
+        assert 1 / 3 - 0.02 <= r.incidents[0].t <= 0.5 + 0.02
 
 
 def test_obstacles_are_checked():
@@ -276,11 +276,11 @@ def test_obstacles_are_checked():
     blocked = dataclasses.replace(problem, obstacles=np.array([[[7.0, -1.0], [7.0, 1.0]]]),
                                   obstacle_buffers=np.array([0.5]))
     r = validate_plan(blocked, plan)  # positioner 0's arm lies across the obstacle at the start
-    assert not r["valid"] and any("positioner 0 collides with obstacle 0" in p for p in r["problems"])
-    assert r["incidents"][0]["positioners"] == [0] and r["incidents"][0]["obstacle"] == 0
+    assert not r.valid and any("positioner 0 collides with obstacle 0" in p for p in r.problems)
+    assert r.incidents[0].positioners == [0] and r.incidents[0].obstacle == 0
     far = dataclasses.replace(problem, obstacles=np.array([[[100.0, 100.0], [101.0, 100.0]]]),
                               obstacle_buffers=np.array([0.5]))
-    assert validate_plan(far, plan)["valid"]
+    assert validate_plan(far, plan).valid
 
 
 def _lattice_problem():
@@ -301,11 +301,11 @@ def test_per_robot_lattices_validate_index_plans_through_their_angles():
     assert plan.status == "complete"
     assert np.allclose(plan.angles_deg[0][0], [2.5, 180]) and np.allclose(plan.angles_deg[-1][0], [183.25, 0])
     r = validate_plan(problem, plan)
-    assert r["valid"], r["problems"]
+    assert r.valid, r.problems
     for only in (Plan("complete", angles_deg=plan.angles_deg), Plan("complete", trajectories=plan.trajectories)):
-        assert validate_plan(problem, only)["valid"]
+        assert validate_plan(problem, only).valid
         r = validate_plan(uniform, only)  # robot 0's exact angles are not the uniform lattice's
-        assert not r["valid"] and any("positioners 0 are more than" in p for p in r["problems"])
+        assert not r.valid and any("positioners 0 are more than" in p for p in r.problems)
 
 
 def test_per_robot_geometry_is_used():
@@ -315,11 +315,11 @@ def test_per_robot_geometry_is_used():
             "collision": {"buffer": 2.0}, "start": [0, 9], "target": [0, 9]}
     problem = parse_problem(data)
     plan = Plan("complete", [problem.start])
-    assert validate_plan(problem, plan)["valid"]
+    assert validate_plan(problem, plan).valid
     longer = dataclasses.replace(problem, robot_kinematics=[Rotary(21.0, 12), Rotary(15.0, 12)], _tables=None,
                                  _pairs=None)
     r = validate_plan(longer, plan)
-    assert not r["valid"] and r["collisions"] == 1 and r["min_clearance"] == pytest.approx(1.4 - 4.0)
+    assert not r.valid and r.collisions == 1 and r.min_clearance == pytest.approx(1.4 - 4.0)
 
 
 def test_plan_json_reading_of_angles_and_trajectories(solved):
@@ -347,16 +347,16 @@ def test_plan_json_reading_of_angles_and_trajectories(solved):
 def test_offline_robots_and_joint_rules_are_checked_on_angles(solved):
     problem, plan = solved["alpha-beta"]
     poses = [a.copy() for a in plan.angles_deg]
-    assert validate_plan(problem, Plan("complete", angles_deg=poses))["valid"]
+    assert validate_plan(problem, Plan("complete", angles_deg=poses)).valid
     moving = int(np.nonzero(np.any(plan.configurations[0] != plan.configurations[1], axis=1))[0][0])
     held = dataclasses.replace(problem, held={moving: tuple(problem.start[moving])})
     for only in (plan, Plan("complete", angles_deg=poses), Plan("complete", trajectories=plan.trajectories)):
         r = validate_plan(held, only)
-        assert not r["valid"] and any(f"offline positioners {moving} move" in p for p in r["problems"])
+        assert not r.valid and any(f"offline positioners {moving} move" in p for p in r.problems)
     # beta >= 150 - 0·alpha holds at the start (beta = 180) and fails at the target (beta <= 90)
     ruled = dataclasses.replace(problem, joint_rules={0: (150.0, 0.0)})
     r = validate_plan(ruled, Plan("complete", angles_deg=poses))
-    assert not r["valid"] and any("positioners 0 enter the forbidden region" in p for p in r["problems"])
+    assert not r.valid and any("positioners 0 enter the forbidden region" in p for p in r.problems)
 
 
 def test_trajectories_of_another_tool_with_their_own_breakpoints():
@@ -369,10 +369,10 @@ def test_trajectories_of_another_tool_with_their_own_breakpoints():
     trajs = [{"theta": np.array([[0.0, 0.0], [2.5, 720.0]])},
              {"theta": np.array([[0.3, 270.0], [1.1, 240.0], [4.0, 180.0]])}]
     r = validate_plan(problem, Plan("complete", trajectories=trajs))
-    assert r["valid"] and r["steps"] == 4 and r["motion_time_s"] == 4.0, r["problems"]
+    assert r.valid and r.steps == 4 and r.motion_time_s == 4.0, r.problems
     trajs[0]["theta"][1, 1] = 360.0 * 1000
     r = validate_plan(problem, Plan("complete", trajectories=trajs))
-    assert not r["valid"] and any("not checked for collisions" in p for p in r["problems"])
+    assert not r.valid and any("not checked for collisions" in p for p in r.problems)
 
 
 def test_a_beta_swing_through_a_neighbour_is_found_by_bisection():
@@ -386,7 +386,7 @@ def test_a_beta_swing_through_a_neighbour_is_found_by_bisection():
     problem = parse_problem(data)
     poses = [np.array([[0.0, 0.0], [270.0, 0.0]]), np.array([[0.0, 180.0], [270.0, 0.0]])]
     r = validate_plan(problem, Plan("complete", angles_deg=poses), resolution=100.0)
-    assert not r["valid"] and r["collisions"] == 1 and r["incidents"][0]["t"] == pytest.approx(0.5, abs=0.1), r
+    assert not r.valid and r.collisions == 1 and r.incidents[0].t == pytest.approx(0.5, abs=0.1), r
 
 
 @pytest.mark.timeout(240)
@@ -415,7 +415,7 @@ def test_the_timing_of_tight_plans_passes_the_validator_and_needs_its_orders(mon
         lockstep = float(turn.max(axis=(1, 2)).sum()) / 10.0  # each step its slowest joint
         own = float(turn.max(axis=2).sum(axis=0).max()) / 10.0  # the busiest robot alone
         r = validate_plan(problem, Plan("complete", trajectories=plan.trajectories, motion_time_s=plan.motion_time_s))
-        assert r["valid"], (seed, r["problems"][:3])
+        assert r.valid, (seed, r.problems[:3])
         assert own - 1e-9 <= plan.motion_time_s <= lockstep + 1e-9
         if plan.lattice is not None:  # planned on a finer lattice: its configurations index that one
             problem = at_lattice(problem, plan.lattice)
@@ -439,5 +439,5 @@ def test_the_timing_of_tight_plans_passes_the_validator_and_needs_its_orders(mon
     collided = 0
     for problem, plan in plans:
         trajs, total = plan_trajectories(problem, plan.configurations, 10.0)
-        collided += not validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total))["valid"]
+        collided += not validate_plan(problem, Plan("complete", trajectories=trajs, motion_time_s=total)).valid
     assert collided > 0

@@ -51,7 +51,7 @@ def test_a_robot_boxed_in_by_a_fiducial_gets_a_way_out():
     assert np.array_equal(again.start, p.start) and np.array_equal(again.target, p.target)
     plan = supcoord.solve(p, improve=0)
     assert plan.status == "complete"
-    assert supcoord.validate_plan(p, plan)["valid"]
+    assert supcoord.validate_plan(p, plan).valid
 
 
 @pytest.mark.slow

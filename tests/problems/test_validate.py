@@ -56,12 +56,12 @@ def test_oracle_plans_pass_the_validator(three, three_moves):
     assert three_moves is not None
     single = Plan("complete", apply_moves(three, three_moves), lower_bound=lower_bound(three))
     result = validate_plan(three, single)
-    assert result["valid"], result["problems"]
-    assert result["collisions"] == 0 and result["at_target"] == 3 and result["min_clearance"] >= 0
+    assert result.valid, result.problems
+    assert result.collisions == 0 and result.at_target == 3 and result.min_clearance >= 0
     plan = plan_from_moves(three, three_moves)
     assert plan.makespan < len(three_moves) and plan.makespan >= plan.lower_bound == 6
     result = validate_plan(three, plan)
-    assert result["valid"], result["problems"]
+    assert result.valid, result.problems
     assert [parse_event(three.kinematics, e) for e in plan.events] == list(three_moves)
 
 
@@ -71,7 +71,7 @@ def test_alpha_beta_oracle_plan_passes_the_validator():
     assert moves is not None
     plan = plan_from_moves(p, moves)
     result = validate_plan(p, plan)
-    assert result["valid"], result["problems"]
+    assert result.valid, result.problems
     assert plan.makespan >= lower_bound(p) == 6
 
 
@@ -79,8 +79,8 @@ def test_validator_catches_collisions(three):
     # 0 points at 1 (+x) while 1 turns round to point back at 0 (−x)
     confs = [np.array([[0], [k % 12], [0]]) for k in range(0, -7, -1)]
     result = validate_plan(three, Plan("complete", confs))
-    assert not result["valid"] and result["collisions"] > 0
-    assert any("positioners 0 and 1 collide" in p for p in result["problems"])
+    assert not result.valid and result.collisions > 0
+    assert any("positioners 0 and 1 collide" in p for p in result.problems)
 
 
 def test_validator_catches_swept_collision_that_end_points_miss():
@@ -89,30 +89,30 @@ def test_validator_catches_swept_collision_that_end_points_miss():
             "collision": {"buffer": 1.0}, "start": [0, 0], "target": [1, 0]}
     p = parse_problem(data)
     result = validate_plan(p, Plan("complete", [np.array([[0], [0]]), np.array([[1], [0]])]))
-    assert not result["valid"] and result["collisions"] == 1
-    assert "step 0->1: positioners 0 and 1 collide" in result["problems"][0]
-    assert result["min_clearance"] < -1.9  # a's arm passes through b's base
-    (inc,) = result["incidents"]
+    assert not result.valid and result.collisions == 1
+    assert "step 0->1: positioners 0 and 1 collide" in result.problems[0]
+    assert result.min_clearance < -1.9  # a's arm passes through b's base
+    (inc,) = result.incidents
     # a's arm (length 10) lies across b's arm, the segment y = −5, x ∈ [5, 15], for θ ∈ [−45°, −30°]
-    assert inc["step"] == 0 and inc["positioners"] == [0, 1] and 1 / 3 - 0.02 <= inc["t"] <= 0.5 + 0.02
-    assert inc["distance"] < 0.1 and inc["required"] == 2.0
+    assert inc.step == 0 and inc.positioners == [0, 1] and 1 / 3 - 0.02 <= inc.t <= 0.5 + 0.02
+    assert inc.distance < 0.1 and inc.required == 2.0
 
 
 def test_validator_catches_jumps_and_wrong_ends(three, three_moves):
     good = apply_moves(three, three_moves)
     jump = good[:2] + good[3:]
-    assert any("more than one step" in p for p in validate_plan(three, Plan("complete", jump))["problems"])
+    assert any("more than one step" in p for p in validate_plan(three, Plan("complete", jump)).problems)
     r = validate_plan(three, Plan("complete", good[1:]))
-    assert not r["valid"] and any("not the start" in p for p in r["problems"])
+    assert not r.valid and any("not the start" in p for p in r.problems)
     r = validate_plan(three, Plan("complete", good[:-1]))
-    assert not r["valid"] and r["at_target"] == 2 and any("not the target" in p for p in r["problems"])
+    assert not r.valid and r.at_target == 2 and any("not the target" in p for p in r.problems)
     r = validate_plan(three, Plan("complete", good, makespan=3))
-    assert any("makespan is 3" in p for p in r["problems"])
+    assert any("makespan is 3" in p for p in r.problems)
     bad = [c.copy() for c in good]
     bad[1][0, 0] = 12
-    assert any("out of the joint ranges" in p for p in validate_plan(three, Plan("complete", bad))["problems"])
+    assert any("out of the joint ranges" in p for p in validate_plan(three, Plan("complete", bad)).problems)
     r = validate_plan(three, Plan("infeasible", [], reason="blocked"))
-    assert not r["valid"] and r["at_target"] == 0 and "blocked" in r["problems"][0]
+    assert not r.valid and r.at_target == 0 and "blocked" in r.problems[0]
 
 
 def test_wrap_is_one_step():
@@ -123,7 +123,7 @@ def test_wrap_is_one_step():
     plan = plan_from_moves(p, [(0, 0, 1), (0, 0, 1)])
     assert [c.ravel().tolist() for c in plan.configurations] == [[11], [0], [1]]
     assert plan.events == ["v0", "v0"]
-    assert validate_plan(p, plan)["valid"]
+    assert validate_plan(p, plan).valid
 
 
 def test_compaction_merges_independent_moves(three):
@@ -188,8 +188,8 @@ def test_fuzz_plans_give_an_answer_or_a_format_error(data):
         assert exc.where == "plan.json"
         return
     result = validate_plan(problem, plan)
-    assert isinstance(result["valid"], bool) and result["collisions"] >= 0 and 0 <= result["at_target"] <= 3
-    assert not result["valid"] or (plan.configurations and np.array_equal(plan.configurations[-1], problem.target))
+    assert isinstance(result.valid, bool) and result.collisions >= 0 and 0 <= result.at_target <= 3
+    assert not result.valid or (plan.configurations and np.array_equal(plan.configurations[-1], problem.target))
 
 
 @pytest.mark.parametrize("rings", range(9))
@@ -203,10 +203,10 @@ def test_validator_rebuilds_hex_bases_and_reports_a_wrong_one():
             "kinematics": {"kind": "rotary", "arm": 5.0, "steps": 12},
             "collision": {"buffer": 1.0}, "start": [0] * 7, "target": [0] * 7}
     p = parse_problem(data)
-    assert validate_plan(p, Plan("complete", [p.start]))["valid"]
+    assert validate_plan(p, Plan("complete", [p.start])).valid
     p = dataclasses.replace(p, bases=p.bases[[0, 2, 1, 3, 4, 5, 6]])  # as if the layout had swapped two positioners
     r = validate_plan(p, Plan("complete", [p.start]))
-    assert not r["valid"] and "layout: base of positioner 1 is [11.2, 19.399] but the hex ordering" in r["problems"][0]
+    assert not r.valid and "layout: base of positioner 1 is [11.2, 19.399] but the hex ordering" in r.problems[0]
 
 
 def test_incidents_are_listed_up_to_the_limit(three):
@@ -214,9 +214,9 @@ def test_incidents_are_listed_up_to_the_limit(three):
     confs = [np.array([[0], [-k % 12], [0]]) for k in range(7)]
     confs += confs[::-1][1:]
     r = validate_plan(three, Plan("complete", confs))
-    assert r["collisions"] == len(r["incidents"]) >= 2
-    assert all(i["positioners"] == [0, 1] and i["distance"] < i["required"] == 4.0 for i in r["incidents"])
-    assert [i["step"] for i in r["incidents"]] == sorted(i["step"] for i in r["incidents"])
+    assert r.collisions == len(r.incidents) >= 2
+    assert all(i.positioners == [0, 1] and i.distance < i.required == 4.0 for i in r.incidents)
+    assert [i.step for i in r.incidents] == sorted(i.step for i in r.incidents)
 
 
 # --- the validator and the tables are independent implementations of one definition ----------
@@ -257,11 +257,11 @@ def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle
     d[joint] = delta
     blocked = bool(motion_collides(k, [0.0, 0.0], qa, d, k, base_b, qb, np.zeros(k.n_joints), 4.0))
     if not blocked:
-        assert result["valid"], result["problems"]
-    if result["collisions"]:
+        assert result.valid, result.problems
+    if result.collisions:
         assert blocked
-    if blocked and result["valid"]:
-        assert result["min_clearance"] < 0.05 / 2 + 1e-3
+    if blocked and result.valid:
+        assert result.min_clearance < 0.05 / 2 + 1e-3
     da = d.astype(int)
     oracle = oracle_motion(p.to_json(), 0, qa, da, 1, qb, np.zeros(k.n_joints, dtype=int))
     least = float(PairTables(OracleProblem.from_json(p.to_json()).arm, complex(*base_b), 4.0)
@@ -270,9 +270,9 @@ def test_validator_agrees_with_the_swept_tables_on_single_moves(kin, dist, angle
         assert oracle == (HIT if least < 4.0 else FREE)
         assert blocked == (oracle == HIT)  # the tables' exact turn and the oracle agree
     if oracle == FREE:
-        assert result["valid"], result["problems"]
+        assert result.valid, result.problems
     elif least < 4.0 - 1e-5:  # deeper than the validator's bisection tolerance: it must see it
-        assert result["collisions"] and result["min_clearance"] < 0
+        assert result.collisions and result.min_clearance < 0
 
 
 @pytest.mark.parametrize("kin", [ROT_KIN, AB_KIN], ids=["rotary", "alpha-beta"])
@@ -286,24 +286,24 @@ def test_planner_plans_on_random_hex_problems_pass_the_validator(kin, seed):
     assert plan.status in ("complete", "infeasible")
     if plan.status == "complete":
         result = validate_plan(p, plan)
-        assert result["valid"] and result["at_target"] == p.n, result["problems"]
+        assert result.valid and result.at_target == p.n, result.problems
         assert plan.lower_bound <= plan.makespan
 
 
 def test_events_must_name_moves_that_lead_to_the_last_configuration(three, three_moves):
     plan = plan_from_moves(three, three_moves)
-    assert validate_plan(three, plan)["valid"]
+    assert validate_plan(three, plan).valid
     shuffled = Plan("complete", plan.configurations, events=plan.events[::-1])  # order is not checked
-    assert validate_plan(three, shuffled)["valid"]
+    assert validate_plan(three, shuffled).valid
     for events, message in [(plan.events[:-1], "do not lead from the start to the last configuration"),
                             (plan.events + ["va0"], "'va0' is not a move event of this rotary problem"),
                             (plan.events + ["v3"], "'v3' is not a move event"),
                             (["x"], "events[0] = 'x'")]:
         r = validate_plan(three, Plan("complete", plan.configurations, events=events))
-        assert not r["valid"] and any(message in p for p in r["problems"]), (events, r["problems"])
+        assert not r.valid and any(message in p for p in r.problems), (events, r.problems)
     ab = parse_problem(copy.deepcopy(TWO_AB))
     moves = oracle_plan_moves(ab)
     r = validate_plan(ab, plan_from_moves(ab, moves))
-    assert r["valid"], r["problems"]
+    assert r.valid, r.problems
     r = validate_plan(ab, Plan("complete", plan_from_moves(ab, moves).configurations, events=["v0"]))
-    assert any("'v0' is not a move event of this alpha-beta problem" in p for p in r["problems"])
+    assert any("'v0' is not a move event of this alpha-beta problem" in p for p in r.problems)

@@ -103,9 +103,9 @@ def test_blocks_of_steps_find_what_the_slow_check_finds(kinematics, seed):
         poses.append(poses[-1] + step)
     result = validate_plan(problem, Plan("complete", angles_deg=[p.tolist() for p in poses]), resolution=RESOLUTION)
     hits, clearance = _slow_check(problem, poses)
-    assert result["collisions"] == len(hits)
-    assert [(i["step"], *i["positioners"]) for i in result["incidents"]] == hits[:len(result["incidents"])]
-    assert result["min_clearance"] == pytest.approx(clearance, abs=1e-9)
+    assert result.collisions == len(hits)
+    assert [(i.step, *i.positioners) for i in result.incidents] == hits[:len(result.incidents)]
+    assert result.min_clearance == pytest.approx(clearance, abs=1e-9)
 
 
 def test_the_slow_check_sees_collisions_between_samples_of_the_end_points():
@@ -115,4 +115,4 @@ def test_the_slow_check_sees_collisions_between_samples_of_the_end_points():
     poses.append(poses[0] + 170.0)  # every arm swings most of half a turn: the arms sweep across each other
     hits, _ = _slow_check(problem, poses)
     result = validate_plan(problem, Plan("complete", angles_deg=[p.tolist() for p in poses]), resolution=RESOLUTION)
-    assert hits and result["collisions"] == len(hits)
+    assert hits and result.collisions == len(hits)

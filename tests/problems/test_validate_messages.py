@@ -19,5 +19,5 @@ def test_robots_not_at_target_are_listed_up_to_ten(n):
     }, "row.json")
     result = validate_plan(problem, Plan("complete", [np.zeros((n, 1), dtype=np.int64)]))
     shown = ", ".join(str(i) for i in range(min(n, 10))) + (f", ... ({n} in all)" if n > 10 else "")
-    assert not result["valid"]
-    assert f"the last configuration is not the target (positioners {shown} are not at target)" in result["problems"]
+    assert not result.valid
+    assert f"the last configuration is not the target (positioners {shown} are not at target)" in result.problems

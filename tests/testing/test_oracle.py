@@ -292,7 +292,7 @@ def test_a_route_with_half_a_micrometre_of_clearance_is_free():
     assert moves == [(0, 0, 1)] * 3
     p = parse_problem(data)
     result = validate_plan(p, Plan("complete", apply_moves(p, moves)))
-    assert result["valid"] and 0 <= result["min_clearance"] < 0.01, result
+    assert result.valid and 0 <= result.min_clearance < 0.01, result
 
 
 @pytest.mark.parametrize("clearance", [-1e-7, -0.001])
@@ -390,7 +390,7 @@ def test_oracle_plans_pass_the_project_validator(seed):
     assert len(moves) == oracle_solve(data)
     p = parse_problem(data)
     result = validate_plan(p, Plan("complete", apply_moves(p, moves)))
-    assert result["valid"], result["problems"]
+    assert result.valid, result.problems
 
 
 def test_members_remove_the_others():

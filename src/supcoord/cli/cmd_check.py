@@ -118,7 +118,7 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if args.figure:
         from ..figures.plan_figures import save_plan_figure
 
-        drawn = dataclasses.replace(result, incidents=[i for i in result.incidents if len(i["positioners"]) == 2]
+        drawn = dataclasses.replace(result, incidents=[i for i in result.incidents if len(i.positioners) == 2]
                                     if plan.configurations else [])
         with as_option("--figure"):
             save_plan_figure(problem, plan, args.figure, drawn, progress=console.progress)

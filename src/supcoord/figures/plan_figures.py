@@ -212,7 +212,7 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: ValidationResult
     # the first incident of each pair first (a pair often collides over several steps), then the rest
     seen: set[tuple[int, int]] = set()
     first = [i for i, inc in enumerate(listed)
-             if tuple(inc["positioners"]) not in seen and not seen.add(tuple(inc["positioners"]))]
+             if tuple(inc.positioners) not in seen and not seen.add(tuple(inc.positioners))]
     order = first + [i for i in range(len(listed)) if i not in set(first)]
     incidents = [listed[i] for i in sorted(order[:max_panels])]
     if not incidents:
@@ -222,11 +222,11 @@ def save_incidents_figure(problem: Problem, plan: Plan, result: ValidationResult
     rows = math.ceil(len(incidents) / cols)
     fig, axes = plt.subplots(rows, cols, figsize=(3.8 * cols, 3.8 * rows + 0.5), squeeze=False)
     for ax, inc in zip(axes.ravel(), incidents):
-        k, (a, b), t = int(inc["step"]), inc["positioners"], float(inc["t"])
+        k, (a, b), t = int(inc.step), inc.positioners, float(inc.t)
         c, delta = steps[k] if k < len(steps) else (np.asarray(plan.configurations[k], float), 0.0)
         q = c + t * delta
         where = f"step {k}->{k + 1}, t = {t:.2f}" if steps else "configuration 0"
-        draw_layout(ax, problem, f"{where}: {a} & {b}\n{inc['distance']:.2f} mm < {inc['required']:.2f} mm",
+        draw_layout(ax, problem, f"{where}: {a} & {b}\n{inc.distance:.2f} mm < {inc.required:.2f} mm",
                     numbers=True, focus=[a, b])
         plot_target(ax, problem)
         plot_configuration(ax, problem, q, highlight={a: COLORS["collision"], b: COLORS["collision"]})

@@ -33,6 +33,7 @@ References
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -54,7 +55,7 @@ from .table_store import PackedTables, RecentArrays, release_free_heap
 __all__ = ["segment_distance", "point_segment_distance", "rotation_clearance", "neighbour_pairs", "turn_collides",
            "placed_segments", "static_table", "swept_table", "motion_collides", "distance_table", "simultaneous_table",
            "prefiltered_motion_collides", "colliding_pairs", "robots_motion_collides", "robot_segments", "robot_reaches",
-           "intern_kinematics", "CollisionTables", "DEFAULT_TOL", "MAX_TABLE_ENTRIES"]
+           "intern_kinematics", "CollisionTables", "TableStatistics", "DEFAULT_TOL", "MAX_TABLE_ENTRIES"]
 
 #: bytes of float distance tables kept (least recently used dropped, recomputed on demand)
 DIST_CACHE_BYTES = 512 * 2**20
@@ -69,6 +70,20 @@ UNPACKED_CACHE_BYTES = 256 * 2**20
 LAZY_TABLE_BYTES = 64 * 2**20
 #: bytes of lazy lines (a swept table's ``[m, i, :]`` or ``[m, :, j]``) kept
 LINE_CACHE_BYTES = 128 * 2**20
+
+
+@dataclass(frozen=True)
+class TableStatistics:
+    """What :meth:`CollisionTables.statistics` reports: ``positioners``, ``pairs`` (neighbour
+    pairs), ``distinct_offsets`` (pairs of distinct geometry, the tables computed),
+    ``colliding_fraction`` (mean fraction of colliding position pairs of the static tables,
+    in [0, 1], weighted by pairs) and ``positions`` (positions of one positioner)."""
+
+    positioners: int
+    pairs: int
+    distinct_offsets: int
+    colliding_fraction: float
+    positions: int
 
 
 class CollisionTables:
@@ -417,7 +432,7 @@ class CollisionTables:
                 out.append((k, int(a), 1))
         return out
 
-    def statistics(self) -> dict[str, Any]:
+    def statistics(self) -> TableStatistics:
         """Pairs, distinct offsets, and the fraction of colliding position pairs (static)."""
         keys = [self._key(k) for k in range(len(self.pairs))]
         distinct = sorted(set(keys))
@@ -427,5 +442,4 @@ class CollisionTables:
             fractions.append(float(self.static(k).mean()))
         weights = [keys.count(key) for key in distinct]
         mean = float(np.average(fractions, weights=weights)) if fractions else 0.0
-        return {"positioners": len(self.bases), "pairs": len(self.pairs), "distinct_offsets": len(distinct),
-                "colliding_fraction": mean, "positions": self.kin.n_positions}
+        return TableStatistics(len(self.bases), len(self.pairs), len(distinct), mean, self.kin.n_positions)

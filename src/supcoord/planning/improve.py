@@ -444,10 +444,6 @@ class ImproveStats:
         """The statistics as a JSON object, in the order of the fields."""
         return asdict(self)
 
-    def __getitem__(self, key: str) -> Any:
-        """The field ``key``: ``stats["replans"]``, the call form of the dictionary
-        :func:`improve_plan` returned before this class."""
-        return self.to_json()[key]
 
 
 def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | None = None,

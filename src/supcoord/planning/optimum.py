@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
@@ -95,12 +95,6 @@ class MakespanResult:
             out["path"] = [np.asarray(c).tolist() for c in self.path]
         return out
 
-    def __getitem__(self, key: str) -> Any:
-        """The attribute ``key``: ``result["makespan"]``, the call form of the dictionary
-        :func:`optimal_makespan` returned before this class."""
-        if key not in {f.name for f in fields(self)}:
-            raise KeyError(key)
-        return getattr(self, key)
 
 
 def optimal_makespan(problem: Problem, *, members: Sequence[int] | None = None, budget: Budget | None = None,

@@ -81,7 +81,7 @@ from ..problems.plan import Move
 from .move_layers import MoveLayers, witness_moves
 from .model import GuardedSystem
 
-__all__ = ["Search", "WindowBudget", "search", "witness_layers", "shortest_moves", "blockers", "image", "MODES"]
+__all__ = ["Search", "SearchStats", "WindowBudget", "search", "witness_layers", "shortest_moves", "blockers", "image", "MODES"]
 
 MODES = ("bidirectional", "forward")
 
@@ -91,18 +91,32 @@ class WindowBudget(BudgetExceeded):
     abandoned *without a verdict* (the caller tries something cheaper first)."""
 
 
+@dataclass(frozen=True)
+class SearchStats:
+    """The work of one :func:`search`: images taken ``forward`` (from ``q0``) and
+    ``backward`` (from ``D``), and ``seconds`` (wall clock)."""
+
+    forward: int = 0
+    backward: int = 0
+    seconds: float = 0.0
+
+    def to_json(self) -> dict[str, Any]:
+        """The statistics as a JSON object, in the order of the fields."""
+        return {"forward": self.forward, "backward": self.backward, "seconds": self.seconds}
+
+
 @dataclass
 class Search:
     """``fwd[i] = F(i)``, ``bwd[j] = B(j)``; ``distance`` = ``dist(q0, D)`` (None:
     unreachable), ``meet = (i, j)``; ``closed`` = the saturated side's ``W`` when
-    ``distance`` is None."""
+    ``distance`` is None; ``stats``: the work done."""
 
     fwd: list[BDD]
     bwd: list[BDD]
     distance: int | None
     meet: tuple[int, int] | None
     closed: BDD | None
-    stats: dict[str, Any] = field(default_factory=dict)
+    stats: SearchStats = field(default_factory=SearchStats)
 
 
 class _ImageTooLarge(Exception):
@@ -146,11 +160,11 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
     check = ThrottledCheck(ctx)
     sides = [[S.init & S.invariant], [goal & S.invariant]]  # F, B
     walls = [sides[0][0], sides[1][0]]  # WF, WB
-    stats: dict[str, Any] = {"forward": 0, "backward": 0}
+    images = [0, 0]  # images taken forward, backward
 
     def done(distance: int | None, meet: tuple[int, int] | None, closed: BDD | None) -> Search:
-        stats["seconds"] = time.perf_counter() - t0
-        return Search(sides[0], sides[1], distance, meet, closed, stats)
+        return Search(sides[0], sides[1], distance, meet, closed,
+                      SearchStats(images[0], images[1], time.perf_counter() - t0))
 
     j = _least_meeting(ctx, sides[0][0], sides[1])
     if j is not None:
@@ -166,7 +180,7 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
         except _ImageTooLarge:  # this side is over the cap: the other goes on alone (or the cap is hit)
             if mode == "forward" or cost[1 - s] == math.inf:
                 raise WindowBudget(f"window of {len(S.members)} members: an image exceeds {max_nodes} nodes",
-                                   stats={"forward": stats["forward"], "backward": stats["backward"],
+                                   stats={"forward": images[0], "backward": images[1],
                                           "members": len(S.members)}, value=max_nodes) from None
             cost[s] = math.inf
             continue
@@ -176,7 +190,7 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
             return done(None, None, walls[s])  # W closed under Img: Reach(q0) or CoReach(D)
         sides[s].append(frontier)
         walls[s] = walls[s] | frontier
-        stats["forward" if s == 0 else "backward"] += 1
+        images[s] += 1
         other = sides[1 - s]
         j = _least_meeting(ctx, frontier, other)
         if j is not None:
@@ -185,7 +199,7 @@ def search(S: GuardedSystem, goal: BDD, max_nodes: int | None = None, mode: str 
             return done(meet[0] + meet[1], meet, None)
         if max_nodes is not None and len(walls[0]) + len(walls[1]) > max_nodes:
             raise WindowBudget(f"window of {len(S.members)} members exceeds {max_nodes} nodes",
-                               stats={"forward": stats["forward"], "backward": stats["backward"],
+                               stats={"forward": images[0], "backward": images[1],
                                       "members": len(S.members)}, value=max_nodes)
 
 
@@ -194,7 +208,7 @@ def witness_layers(S: GuardedSystem, res: Search) -> list[BDD]:
     layers (module docstring)."""
     ctx = S.model.ctx
     if res.meet is None:
-        raise ModelError("witness_layers: the search did not reach the goal", value=res.stats)
+        raise ModelError("witness_layers: the search did not reach the goal", value=res.stats.to_json())
     i, j = res.meet
     meet = res.fwd[i] & res.bwd[j]  # M
     p_layers = [meet]

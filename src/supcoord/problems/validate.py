@@ -96,7 +96,7 @@ from .problem import Problem
 from .refine import at_lattice
 from .validate_partial import at_whole_target, partial_problem
 from .validate_repair import check_repair_phase
-from .validation_result import ValidationResult
+from .validation_result import Incident, ValidationResult
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
 __all__ = ["validate_plan", "ValidationResult", "segment_distance_ericson", "hex_bases_by_angle", "trajectory_poses",
@@ -300,7 +300,7 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
     if plan.makespan is not None and plan.makespan != len(confs) - 1:
         problems.append(f"makespan is {plan.makespan} but the plan has {len(confs) - 1} steps")
     clearance = min(fixed.clearance, rest.min_clearance if rest.min_clearance is not None else math.inf)
-    incidents = [dict(i, step=i["step"] + k) for i in rest.incidents]
+    incidents = [dataclasses.replace(i, step=i.step + k) for i in rest.incidents]
     return _result(not problems, fixed.collisions + rest.collisions, rest.at_target, problems, len(confs) - 1,
                    clearance, incidents, (fixed.undecided + rest.undecided, max(fixed.depth, rest.undecided_depth)))
 
@@ -580,7 +580,7 @@ def _ids(idx: Any, limit: int = 10) -> str:
 
 
 def _result(valid: bool, collisions: int, at_target: int, problems: list[str], steps: int,
-            clearance: float | None, incidents: list[dict[str, Any]] | None = None,
+            clearance: float | None, incidents: list[Incident] | None = None,
             undecided: tuple[int, float] = (0, 0.0)) -> ValidationResult:
     if len(problems) > MAX_PROBLEMS:
         problems = problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more"]

@@ -152,15 +152,15 @@ def check_jaeger(problem: Problem, source: Any, *, max_rpm: float | None = None,
     keys = _keys(problem)
     first = None
     for inc in result.incidents:
-        k = inc["step"]
-        t = float(times[k] + inc["t"] * (times[k + 1] - times[k])) if k + 1 < len(times) else float(times[k])
+        k = inc.step
+        t = float(times[k] + inc.t * (times[k + 1] - times[k])) if k + 1 < len(times) else float(times[k])
         if first is None or t < first["time_s"]:
-            robots = [int(r) for r in inc["positioners"]]
+            robots = [int(r) for r in inc.positioners]
             first = {"robots": robots, "positioner_ids": [keys[r] for r in robots], "time_s": t,
-                     "distance_mm": inc["distance"], "required_mm": inc["required"],
-                     "clearance_mm": inc["distance"] - inc["required"]}
-            if "obstacle" in inc:
-                first["obstacle"] = int(inc["obstacle"])
+                     "distance_mm": inc.distance, "required_mm": inc.required,
+                     "clearance_mm": inc.distance - inc.required}
+            if inc.obstacle is not None:
+                first["obstacle"] = int(inc.obstacle)
     points = sum(len(a) for r in source.get("trajectory", source).values() for a in r.values())
     return JaegerCheck(not problems, int(result.collisions), first, result.min_clearance, fastest, limit,
                        float(times[-1]), points, problems, int(result.undecided))

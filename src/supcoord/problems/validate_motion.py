@@ -36,6 +36,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .validation_result import Incident
+
 __all__ = ["segment_distance_ericson", "pieces_distances", "Bodies", "MotionCheck", "MotionChecker", "TOLERANCE",
            "MAX_OPEN", "MAX_TURNS", "TIE"]
 
@@ -418,12 +420,12 @@ def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarra
 class MotionCheck:
     """What the geometric check of a motion found: colliding (step, pair) incidents, the
     least clearance ``dist − (r_a + r_b)`` (mm, ``inf`` when no pair was checked), the first
-    incidents (``{"step", "positioners", "t", "distance", "required"[, "obstacle"]}``), the
+    incidents (:class:`~.validation_result.Incident`), the
     pairs left undecided and how deep a collision they could hide (mm)."""
 
     collisions: int = 0
     clearance: float = math.inf
-    incidents: list[dict[str, Any]] = field(default_factory=list)
+    incidents: list[Incident] = field(default_factory=list)
     undecided: int = 0
     depth: float = 0.0
 
@@ -439,7 +441,7 @@ class _Found:
 
     collisions: int = 0
     clearance: float = math.inf
-    incidents: list[dict[str, Any]] = field(default_factory=list)
+    incidents: list[Incident] = field(default_factory=list)
     undecided: int = 0
     depth: float = 0.0
 
@@ -543,8 +545,5 @@ class MotionChecker:
             what = f"positioners {a} and {b} collide" if b < n else f"positioner {a} collides with obstacle {b - n}"
             problems.append(f"{where}: {what} (distance {d:.3f} mm < {need[h]:.3f} mm)")
             if len(found.incidents) < self.max_incidents:
-                inc = {"step": k, "positioners": [a, b] if b < n else [a], "t": float(t),
-                       "distance": float(d), "required": float(need[h])}
-                if b >= n:
-                    inc["obstacle"] = b - n
-                found.incidents.append(inc)
+                found.incidents.append(Incident(k, [a, b] if b < n else [a], float(t), float(d), float(need[h]),
+                                                None if b < n else b - n))
