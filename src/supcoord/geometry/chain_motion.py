@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import weakref
 from math import cos, sin, sqrt
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -148,13 +148,10 @@ def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Seq
     c0, e0 = geo_b.angles(qb)
     c1, e1 = geo_b.angles(tuple(x + d for x, d in zip(qb, db)))
     length = geo_a.length(da) + geo_b.length(db)
-    pa = (float(base_a[0]), float(base_a[1]), geo_a.l1, geo_a.s0x, geo_a.s0y, geo_a.s1x, geo_a.s1y,
-          a0, a1 - a0, b0, b1 - b0)
-    pb = (float(base_b[0]), float(base_b[1]), geo_b.l1, geo_b.s0x, geo_b.s0y, geo_b.s1x, geo_b.s1y,
-          c0, c1 - c0, e0, e1 - e0)
-
-    def dist(t: float) -> float:
-        return segment_distance_floats(*_pose(pa, t), *_pose(pb, t))
+    dist = _distance((float(base_a[0]), float(base_a[1]), geo_a.l1, geo_a.s0x, geo_a.s0y, geo_a.s1x, geo_a.s1y,
+                      a0, a1 - a0, b0, b1 - b0),
+                     (float(base_b[0]), float(base_b[1]), geo_b.l1, geo_b.s0x, geo_b.s0y, geo_b.s1x, geo_b.s1y,
+                      c0, c1 - c0, e0, e1 - e0))
 
     # the end points first: they decide most motions (a collision at an end, or the bound of
     # the whole motion clears: then every interval's does, the distance being L-Lipschitz)
@@ -182,6 +179,29 @@ def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Seq
         stack.append((t0, mid, d0, dm))
         stack.append((mid, t1, dm, d1))
     return False
+
+
+def _distance(pa: tuple, pb: tuple) -> Callable[[float], float]:
+    """The distance at time ``t`` of the segments of chain parameters ``pa`` and ``pb``
+    (:func:`_pose` of each, then :func:`segment_distance_floats`; the same operations in the
+    same order, without the calls in between: the refinement's innermost function)."""
+    bx, by, l1, s0x, s0y, s1x, s1y, a0, da, b0, db = pa
+    cx, cy, m1, r0x, r0y, r1x, r1y, c0, dc, e0, de = pb
+
+    def dist(t: float) -> float:
+        a = a0 + t * da
+        ab = a + b0 + t * db
+        ex, ey = l1 * cos(a), l1 * sin(a)
+        c, s = cos(ab), sin(ab)
+        f = c0 + t * dc
+        ce = f + e0 + t * de
+        fx, fy = m1 * cos(f), m1 * sin(f)
+        k, n = cos(ce), sin(ce)
+        return segment_distance_floats(ex + (s0x * c - s0y * s) + bx, ey + (s0x * s + s0y * c) + by,
+                                       ex + (s1x * c - s1y * s) + bx, ey + (s1x * s + s1y * c) + by,
+                                       fx + (r0x * k - r0y * n) + cx, fy + (r0x * n + r0y * k) + cy,
+                                       fx + (r1x * k - r1y * n) + cx, fy + (r1x * n + r1y * k) + cy)
+    return dist
 
 
 def _pose(p: tuple, t: float) -> tuple[float, float, float, float]:

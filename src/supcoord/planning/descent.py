@@ -73,24 +73,34 @@ def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarr
     the other ``y → y + dq`` (None: standing)?  :func:`~supcoord.geometry.chain_motion.chain_motion_collides`
     (one motion on floats), cached per (pair geometry, poses, deltas): a grid has few distinct
     pair offsets (held in the problem's :class:`~supcoord.planning.caches.PlanningCache`)."""
-    cache = caches_for(problem).motions
-    a, b = (int(v) for v in problem.pairs[k])
-    nj = problem.kinematics.n_joints
-    dq = np.zeros(nj, dtype=np.int64) if dq is None else dq
-    xa, da, yb, db = (x, dp, y, dq) if side == 0 else (y, dq, x, dp)
-    key = problem.pair_geometry_key(k) + (tuple(int(v) for v in xa), tuple(int(v) for v in da),
-                                        tuple(int(v) for v in yb), tuple(int(v) for v in db))
+    dq = (0,) * problem.kinematics.n_joints if dq is None else _ints(dq)
+    return not _motion_hit(problem, caches_for(problem).motions, k, side, _ints(x), _ints(dp), _ints(y), dq, tol)
+
+
+def _ints(v: Sequence[int] | np.ndarray) -> tuple[int, ...]:
+    """``v`` as a tuple of Python ints (a key part of :func:`_motion_hit`)."""
+    return tuple(v.tolist()) if isinstance(v, np.ndarray) else tuple(int(u) for u in v)
+
+
+def _motion_hit(problem: Problem, cache: dict, k: int, side: int, x: tuple[int, ...], dx: tuple[int, ...],
+                y: tuple[int, ...], dy: tuple[int, ...], tol: float) -> bool:
+    """:func:`motion_free`'s verdict negated, on poses and deltas given as tuples of ints, read
+    from or written to ``cache`` (the problem's ``PlanningCache.motions``)."""
+    key = problem.pair_geometry_key(k) + ((x, dx, y, dy) if side == 0 else (y, dy, x, dx))
     hit = cache.get(key)
     if hit is None:
+        a, b = (int(v) for v in problem.pairs[k])
         bsum = float(problem.buffers[a] + problem.buffers[b])
-        hit = cache[key] = chain_motion_collides(chain_geometry(problem.kin(a)), problem.bases[a], key[5], key[6],
-                                                 chain_geometry(problem.kin(b)), problem.bases[b], key[7], key[8],
+        hit = cache[key] = chain_motion_collides(chain_geometry(problem.kin(a)), problem.bases[a], key[-4], key[-3],
+                                                 chain_geometry(problem.kin(b)), problem.bases[b], key[-2], key[-1],
                                                  bsum, tol)
-    return not hit
+    return hit
 
 
 class _Lookups:
-    """Per-problem lookups: moves, conflict adjacency, pair adjacency."""
+    """Per-problem lookups: moves, conflict adjacency, pair adjacency, and memos of what the
+    descent steps read again and again (flat poses part-way through a move set, blocked tables
+    as bytes)."""
 
     def __init__(self, problem: Problem):
         kin = problem.kinematics
@@ -102,10 +112,14 @@ class _Lookups:
         self.pair_adj = pair_graph(problem)
         self.lazy = problem.tables().lazy  # entries decided as read (guards.blocked_entries)
         self.lookup = blocked_lookup(problem) if self.lazy else None
+        self.motions = caches_for(problem).motions  # motion_free's verdicts
 
         self.steps = [j.steps for j in kin.joints]
         self.wraps = [j.wraps for j in kin.joints]
         self.strides = [int(v) for v in kin._strides]
+        self._starts: dict[tuple, list[tuple[int, list[int]]]] = {}
+        self._poses: dict[tuple, list[int]] = {}
+        self._bytes: dict[tuple, tuple[memoryview, int, int]] = {}
 
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
         out = q.copy()
@@ -121,21 +135,58 @@ class _Lookups:
             v[j] += d
         return sum((x % n if w else x) * st for x, n, w, st in zip(v, self.steps, self.wraps, self.strides))
 
+    def starts(self, cp: tuple[int, ...], mp: Sequence[tuple[int, int]]) -> list[tuple[int, list[int]]]:
+        """``[(move, [flat poses it may start from]), …]`` for each move of ``mp`` from ``cp``
+        (its other moves done or not), memoised by ``(cp, mp)``."""
+        key = (cp, tuple(mp))
+        out = self._starts.get(key)
+        if out is None:
+            out = self._starts[key] = [(self.move_index[mv], [self.flat_after(cp, s)
+                                                              for s in _subsets([x for x in mp if x != mv])])
+                                       for mv in mp]
+        return out
+
+    def poses(self, cq: tuple[int, ...], mq: Sequence[tuple[int, int]]) -> list[int]:
+        """The flat poses of ``cq`` after every subset of ``mq``, memoised by ``(cq, mq)``."""
+        key = (cq, tuple(mq))
+        out = self._poses.get(key)
+        if out is None:
+            out = self._poses[key] = [self.flat_after(cq, s) for s in _subsets(mq)]
+        return out
+
+    def table_bytes(self, k: int, side: int) -> tuple[memoryview, int, int]:
+        """``(buf, row, width)``: :func:`.guards.blocked_bits` of ``(k, side)`` as a flat view of
+        bytes (no copy), entry ``B[m, i, j]`` bit ``7 − j % 8`` of ``buf[m·row + i·width + j // 8]``;
+        one per pair geometry, like the tables."""
+        key = self.problem.pair_geometry_key(k) + (side,)
+        out = self._bytes.get(key)
+        if out is None:
+            bits = blocked_bits(self.problem, k, side)
+            flat = memoryview(np.ascontiguousarray(bits).reshape(-1))
+            out = self._bytes[key] = (flat, bits.shape[1] * bits.shape[2], bits.shape[2])
+        return out
+
+    def delta(self, ms: Sequence[tuple[int, int]]) -> tuple[int, ...]:
+        """The joint delta of the moves ``ms`` as a tuple of ints."""
+        d = [0] * len(self.steps)
+        for j, v in ms:
+            d[j] += v
+        return tuple(d)
+
 
 def _subsets(ms: Sequence[tuple[int, int]]) -> list[list[tuple[int, int]]]:
     return [list(s) for r in range(len(ms) + 1) for s in itertools.combinations(ms, r)]
 
 
-def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: np.ndarray, mq: list) -> bool:
-    """Condition (1) for the moves ``mp`` of the pair member ``side`` against ``mq``."""
+def _serialisable(T: _Lookups, k: int, side: int, cp: tuple[int, ...], mp: list, cq: tuple[int, ...],
+                  mq: list) -> bool:
+    """Condition (1) for the moves ``mp`` of the pair member ``side`` (at ``cp``) against ``mq``
+    (from ``cq``)."""
+    starts, js = T.starts(cp, mp), T.poses(cq, mq)
     if T.lazy:  # entries decided ahead by _prefetch; any other is decided here
-        cp, cq = cp.tolist(), cq.tolist()
-        js = [T.flat_after(cq, s) for s in _subsets(mq)]
         mm, ii, jj = [], [], []
-        for mv in mp:
-            m = T.move_index[mv]
-            for s in _subsets([x for x in mp if x != mv]):
-                i = T.flat_after(cp, s)
+        for m, flats in starts:
+            for i in flats:
                 for j in js:
                     hit = T.lookup(k, side, m, i, j)
                     if hit:
@@ -145,26 +196,23 @@ def _serialisable(T: _Lookups, k: int, side: int, cp: np.ndarray, mp: list, cq: 
                         ii.append(i)
                         jj.append(j)
         return not mm or not blocked_entries(T.problem, k, side, mm, ii, jj).any()
-    bits = blocked_bits(T.problem, k, side)  # B[m, i, j]: bit 7 − j % 8 of byte [m, i, j // 8]
-    cp, cq = cp.tolist(), cq.tolist()
-    q_bits = [(j >> 3, 1 << (7 - (j & 7))) for j in (T.flat_after(cq, s) for s in _subsets(mq))]
-    for mv in mp:
-        row = bits[T.move_index[mv]]
-        others = [x for x in mp if x != mv]
-        for s in _subsets(others):
-            cells = row[T.flat_after(cp, s)].tobytes()
-            if any(cells[byte] & mask for byte, mask in q_bits):
+    buf, row, width = T.table_bytes(k, side)
+    q_bits = [(j >> 3, 1 << (7 - (j & 7))) for j in js]
+    for m, flats in starts:
+        for i in flats:
+            at = m * row + i * width
+            if any(buf[at + byte] & mask for byte, mask in q_bits):
                 return False
     return True
 
 
-def _compatible(T: _Lookups, c: np.ndarray, chosen: dict[int, list], p: int, mp: list, tol: float) -> bool:
+def _compatible(T: _Lookups, c: Sequence[tuple[int, ...]], chosen: dict[int, list], p: int, mp: list,
+                tol: float) -> bool:
+    """Conditions (1) and (2) of the module docstring for ``p``'s moves ``mp`` from the
+    configuration ``c`` (a tuple of ints per positioner) beside the moves ``chosen``."""
     problem = T.problem
     if len(mp) > 1 or not T.adj[p]:  # several joints at once, or no neighbour table holds them: its own constraints
-        dp = np.zeros(T.kin.n_joints, dtype=np.int64)
-        for jj, d in mp:
-            dp[jj] = d
-        if problem.own_motion_blocked(p, c[p], dp, tol)[0]:
+        if problem.own_motion_blocked(p, c[p], T.delta(mp), tol)[0]:
             return False
     for k, q, side in T.adj[p]:  # (1): both orders, every subset
         mq = chosen.get(q, [])
@@ -176,13 +224,7 @@ def _compatible(T: _Lookups, c: np.ndarray, chosen: dict[int, list], p: int, mp:
         mq = chosen.get(q, [])
         if not mq and len(mp) < 2:
             continue  # one joint against a standing neighbour: the swept table of (1)
-        dp, dq = np.zeros(T.kin.n_joints, dtype=np.int64), np.zeros(T.kin.n_joints, dtype=np.int64)
-        for jj, d in mp:
-            dp[jj] = d
-        for jj, d in mq:
-            dq[jj] = d
-        hit = not motion_free(problem, k, side, c[p], dp, c[q], dq, tol)
-        if hit:
+        if _motion_hit(problem, T.motions, k, side, c[p], T.delta(mp), c[q], T.delta(mq), tol):
             return False
     return True
 
@@ -195,10 +237,11 @@ def descent_step(problem: Problem, c: np.ndarray, T: _Lookups | None = None,
     todo.sort(key=lambda p: (problem.priority[p], p))
     if T.lazy:
         _prefetch(T, c, todo)
+    ct = [tuple(row) for row in c.tolist()]
     chosen: dict[int, list] = {}
     for p in todo:
         for mp in wanted_moves(problem, c, p):
-            if _compatible(T, c, chosen, p, mp, tol):
+            if _compatible(T, ct, chosen, p, mp, tol):
                 chosen[p] = mp
                 break
     return [(p, j, d) for p in todo if p in chosen for j, d in chosen[p]]

@@ -231,10 +231,21 @@ class _Placer:
         self.pair_nbrs = pair_graph(problem)
         self.lookup = blocked_lookup(problem) if problem.tables().lazy else None
         self.tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(problem.n)]
+        self._single: dict[tuple[int, ...], int | None] = {}
+        self.strides = [int(v) for v in kin._strides]
 
     def single(self, d: np.ndarray) -> int | None:
-        nz = np.nonzero(d)[0]
-        return self.move_index[(int(nz[0]), int(d[nz[0]]))] if len(nz) == 1 else None
+        """The move index of the delta ``d`` if it turns one joint, else None (memoised by delta)."""
+        key = tuple(d.tolist())
+        out = self._single.get(key, -1)
+        if out == -1:
+            nz = [j for j, v in enumerate(key) if v]
+            out = self._single[key] = self.move_index[(nz[0], key[nz[0]])] if len(nz) == 1 else None
+        return out
+
+    def flat(self, q: np.ndarray) -> int:
+        """:meth:`Kinematics.flat_position` of ``q`` on Python ints."""
+        return sum(v * st for v, st in zip(q.tolist(), self.strides))
 
     def free(self, p: int, x: np.ndarray, dp: np.ndarray, q: int, k: int, side: int, y: np.ndarray,
              dq: np.ndarray | None) -> bool:
@@ -242,14 +253,13 @@ class _Placer:
         mp = self.single(dp)
         if dq is None and mp is not None:
             ks = self.side_of.get((p, q))
-            flat = self.kin.flat_position
-            return ks is None or not blocked_entry(self.problem, ks[0], ks[1], mp, flat(x), flat(y))
+            return ks is None or not blocked_entry(self.problem, ks[0], ks[1], mp, self.flat(x), self.flat(y))
         return motion_free(self.problem, k, side, x, dp, y, dq, self.tol)
 
     def _prefetch(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> None:
         """Lazy tables: decide at once (:func:`.guards.blocked_entries`) every entry of a
         single move against a standing neighbour that :meth:`fits` may read."""
-        flat, lookup = self.kin.flat_position, self.lookup
+        flat, lookup = self.flat, self.lookup
         cells = []
         mp = self.single(dp)
         for k, q, side in self.pair_nbrs[p]:
