@@ -243,8 +243,31 @@ mutants it checked, not the module.
 """
 
 
+def _earlier(out: Path) -> dict[str, tuple[str, list[str]]]:
+    """``module -> (table row, detail lines)`` of the results file written before: a module whose
+    run is not kept in ``--work`` (another machine, a cleaned temporary directory) keeps them."""
+    if not out.exists():
+        return {}
+    rows, details, name = {}, {}, None
+    for line in out.read_text().splitlines():
+        cells = [c.strip() for c in line.split("|")]
+        if line.startswith("| ") and len(cells) > 2 and cells[1] in BY_NAME and "not run" not in line:
+            rows[cells[1]] = line
+        if line.startswith("## "):
+            name = line[3:].strip() if line[3:].strip() in BY_NAME else None
+            if name:
+                details[name] = ["", line]
+        elif name:
+            details[name].append(line)
+    for lines in details.values():
+        while lines and not lines[-1]:
+            lines.pop()
+    return {k: (v, details.get(k, [])) for k, v in rows.items()}
+
+
 def report(work: Path, out: Path) -> None:
     notes = _survivor_notes()
+    earlier = _earlier(out)
     lines = ["# Mutation score (mutmut)", "",
              "Command: `python benchmarks/mutation_run.py MODULE …` then `python benchmarks/mutation_run.py --report`  ",
              f"Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  ",
@@ -261,7 +284,9 @@ def report(work: Path, out: Path) -> None:
     for t in TARGETS:
         st = statuses(t, work)
         if st is None:
-            lines.append(f"| {t.name} | {', '.join(t.files)} | – | – | – | – | – | – | not run | – |")
+            row, kept = earlier.get(t.name, (None, []))
+            lines.append(row or f"| {t.name} | {', '.join(t.files)} | – | – | – | – | – | – | not run | – |")
+            details += kept
             continue
         meta = (work / t.name / "run.json").read_text() if (work / t.name / "run.json").exists() else "{}"
         counts = Counter("killed" if s in ("killed", "timeout", "segfault") else s for s in st.values())

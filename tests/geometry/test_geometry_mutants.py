@@ -137,3 +137,19 @@ def test_the_default_bisection_depth_is_two():
     three = rotation_certain(seg, centre, angle, other, bsum, depth=3)
     assert np.array_equal(default[0], two[0]) and np.array_equal(default[1], two[1])
     assert not np.array_equal(default[0], three[0])  # the depth matters on these turns
+
+
+def test_bisect_turns_keeps_open_every_piece_within_the_margin():
+    """The rule of :func:`bisect_turns`: a piece is clear only when the mean end clearance less
+    the slack keeps ``bsum + MARGIN``; a turn whose single piece falls short of that by half
+    the margin stays open, one that keeps twice the margin is decided free."""
+    from supcoord.geometry.sweep import bisect_turns
+
+    bsum, slack = np.array([0.5, 0.5]), np.array([[0.25], [0.25]])
+    d = bsum + slack[:, 0] + np.array([MARGIN / 2, 2 * MARGIN])
+    hit, open_ = bisect_turns(d, d, slack, bsum, lambda e, k: np.full(len(e), np.inf), 0)
+    assert open_.tolist() == [True, False] and not hit.any()
+    # one bisection: the middle pose nearer than bsum − MARGIN is a hit
+    hit, open_ = bisect_turns(d, d, np.array([[0.25, 0.1], [0.25, 0.1]]), bsum,
+                              lambda e, k: np.full(len(e), 0.2), 1)
+    assert hit.tolist() == [True, False] and not open_.any()
