@@ -124,3 +124,4 @@ def test_crowded_descent_steps_pass_the_validator(seed, buffer):
             confs[-1][r] = p.kinematics.step(confs[-1][r], j, d)
     whole = dataclasses.replace(p, target=end)
     assert validate_plan(whole, Plan("complete", confs))["valid"]  # every step as one simultaneous motion
+
