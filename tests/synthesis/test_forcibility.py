@@ -15,7 +15,8 @@ from supcoord.des.generator import Event, Generator
 from supcoord.des.symbolic import from_explicit
 from supcoord.errors import BudgetExceeded, InputError
 from supcoord.synthesis import bfa, ccc, forcible_layers, forcible_layers_naive, forcing_paths, witness
-from supcoord.synthesis.forcibility import as_single_state, as_states, bfa_naive, rank_naive
+from supcoord.synthesis.forcibility import (as_single_state, as_states, bfa_naive, force, forced_naive, rank_naive,
+                                           uncontrollable_enabled)
 
 SEMANTICS = ["preemptive", "standard"]
 
@@ -78,6 +79,18 @@ def test_symbolic_layers_equal_naive(gt, semantics):
     assert lay.complete
     for q in range(g.n_states):
         assert lay.rank(q) == rank_naive(naive, q)
+
+
+@given(generator_and_target(), st.sampled_from(SEMANTICS))
+def test_one_force_step_on_the_whole_relations_equals_the_definition(gt, semantics):
+    """``force`` called as its docstring does (no pre-restricted relations): under the
+    preemptive semantics a state with an uncontrollable event pending is won only when
+    every such event leads into W, whatever its controllable events do."""
+    g, target = gt
+    G = from_explicit(Context(), g)
+    W = set(target)
+    got = force(G, target_bdd(G, target), G.invariant, uncontrollable_enabled(G), semantics)
+    assert state_sets(G, [got], g.n_states)[0] == {q for q in range(g.n_states) if forced_naive(g, q, W, semantics)}
 
 
 @given(generator_and_target(), st.sampled_from(SEMANTICS), st.data())
