@@ -92,7 +92,7 @@ def _single_steps_valid(p, c, step, order):
         nxt = x.copy()
         nxt[r] = p.kinematics.step(x[r], j, d)
         one = dataclasses.replace(p, start=x, target=nxt)
-        if not validate_plan(one, Plan("complete", [x, nxt]))["valid"]:
+        if not validate_plan(one, Plan("complete", [x, nxt])).valid:
             return False
         x = nxt
     return True
@@ -123,5 +123,5 @@ def test_crowded_descent_steps_pass_the_validator(seed, buffer):
         for r, j, d in step:
             confs[-1][r] = p.kinematics.step(confs[-1][r], j, d)
     whole = dataclasses.replace(p, target=end)
-    assert validate_plan(whole, Plan("complete", confs))["valid"]  # every step as one simultaneous motion
+    assert validate_plan(whole, Plan("complete", confs)).valid  # every step as one simultaneous motion
 
