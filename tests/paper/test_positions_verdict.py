@@ -78,7 +78,7 @@ def test_forcible_exactly_when_the_target_configuration_is_reachable():
         G, E = coupled_models(model, Context())
         forcible = ccc(supcon(G, E, accessible=False).supervisor, "preemptive", full=False).forcible
         assert _target_reachable(model) == forcible, model.inst
-        # up to CERTIFICATE_SIZE positioners the blocked-group certificate is this same question
+        # at most GROUP_SIZE arms are one group of every arm: the blocked-group certificate is exact
         blocked = PatternBound(model).blocked_group(tuple(model.inst.start)) is not None
         assert blocked == (not forcible), model.inst
         kinds["forcible" if forcible else "not forcible"] += 1
