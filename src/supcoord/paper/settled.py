@@ -46,6 +46,11 @@ every shortest path is expanded.  "Not forcible" is proved when nothing is left 
 expand, or, before any BDD is built, by a group of positioners whose relaxation (their
 arms alone, :mod:`.settled_bound`) cannot reach their targets: every settled edge is a
 move of that relaxation or leaves the group's arms in place, so ``T`` is unreachable.
+The verdict alone depends on the positions only: a move is enabled by the positions (the
+stale bits change weights, not moves), so ``q0`` is forcible exactly when the target
+configuration is reachable from the start with every arm's move free of its neighbours
+and allowed by the priorities of the arms in its zone (``tests/paper/test_positions_verdict.py``);
+a blocked group asks this of some arms alone.
 Between the two, a greedy search on the explicit settled states
 (:mod:`.settled_witness`) looks for a forcing string: one that replay accepts proves
 "forcible" at once and bounds the A*'s distance from above (the A* still proves the rank).
