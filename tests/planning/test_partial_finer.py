@@ -60,3 +60,19 @@ def test_without_a_finer_plan_or_budget_the_coarse_answer_stands():
         r = partial_search(problem, [0], "coarse", _coarse(problem), finer=finer)
         assert sorted(e.robot for e in r.off_target) == [0, 1] and r.plan.lattice is None
         assert r.stats.finer_put_back == [] and r.optimal and r.on_target_bound == 1
+
+
+def test_sub_problems_run_one_descent_in_the_whole_problems_direction():
+    from supcoord.planning import Local, solve
+    from supcoord.planning.windows import WindowObserver
+
+    class Count(WindowObserver):
+        descents = 0
+
+        def descended(self, steps):
+            Count.descents += 1
+
+    plan = solve(parse_problem(TRIANGLE), route=Local(observer=Count()), improve=0)
+    assert plan.status == "partial" and plan.stats["direction"] in ("forward", "reverse")
+    # both ways for the whole problem; one way for each sub-problem (both ways each: 2 + 2 per attempt)
+    assert Count.descents < 2 * (1 + plan.stats["partial"]["attempts"])
