@@ -51,3 +51,31 @@ def test_check_refuses_a_partial_plan_that_moves_a_listed_robot(tmp_path):
     plan_path.write_text(json.dumps(plan))
     code, out, _ = run("check", TRIANGLE, str(plan_path), "--json")
     assert code == 0 and not json.loads(out)["valid"]
+
+
+#: three alpha-beta robots in a line; robots 1 and 2 cannot both reach their targets and, on
+#: this lattice, neither can alone: the plan leaves both at their starts
+ALPHA_BETA_PARTIAL = {"layout": {"kind": "points", "xy": [[0.0, 0.0], [7.552936, 0.0], [15.105873, 0.0]]},
+                      "kinematics": {"kind": "alpha-beta", "alpha": 7.274, "beta": 15.357, "alpha_steps": 12,
+                                     "beta_steps": 3, "beta_range": [150.0, 180.0]},
+                      "collision": {"buffer": 2.013}, "start": [[3, 0], [9, 2], [9, 2]],
+                      "target": [[4, 1], [4, 2], [10, 2]]}
+
+
+def test_a_partial_plan_is_exported_to_jaeger_and_checked_against_its_ends(tmp_path):
+    problem = tmp_path / "problem.json"
+    problem.write_text(json.dumps(ALPHA_BETA_PARTIAL))
+    plan, there, back = (str(tmp_path / f) for f in ("plan.json", "paths.json", "back.json"))
+    code, out, err = run("solve", str(problem), "--out", plan, "--jaeger", there, "--jaeger-reverse", back,
+                         "--rpm", "2")
+    assert code == 0, err
+    assert "2 robots off target stay at their starts (positioner IDs 1, 2; PLAN.json off_target)" in out
+    assert [e["robot"] for e in json.loads(Path(plan).read_text())["off_target"]] == [1, 2]
+    paths = json.loads(Path(there).read_text())
+    assert paths["1"]["alpha"][-1][0] == 270.0 and paths["0"]["alpha"][-1][0] == 120.0  # start; target
+    for f, extra in ((there, []), (back, ["--reverse"])):
+        code, out, _ = run("check", str(problem), plan, "--jaeger", f, "--json", *extra)
+        assert code == 0 and json.loads(out)["valid"], out
+    code, out, _ = run("check", str(problem), "--jaeger", there, "--json")  # without the plan: the targets
+    result = json.loads(out)
+    assert code == 0 and not result["valid"] and "does not end at the target" in result["problems"][0]

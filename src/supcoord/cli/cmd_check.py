@@ -31,7 +31,8 @@ EXAMPLE = """examples:
   supcoord check problem.json plan.json --json
   -> {"valid": true, "collisions": 0, "at_target": 19, "problems": [], ...}
   supcoord check problem.json plan.json --figure collisions.png   # draws each collision found
-  supcoord check problem.json --jaeger paths.json   # a trajectory in jaeger's format"""
+  supcoord check problem.json --jaeger paths.json   # a trajectory in jaeger's format
+  supcoord check problem.json plan.json --jaeger paths.json   # against the plan's ends (a partial plan)"""
 
 
 HELP = "validate a plan geometrically, independently of the planner"
@@ -46,7 +47,9 @@ BUDGETS = False  # no --max-nodes/--backend (no BDDs); --timeout and --max-memor
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """``supcoord check``'s own options (:func:`.main.build_parser` adds the common ones)."""
     add_problem_argument(p)
-    p.add_argument("plan", metavar="PLAN.json", nargs="?", help="the plan to check (or --jaeger)")
+    p.add_argument("plan", metavar="PLAN.json", nargs="?",
+                   help="the plan to check; with --jaeger, the plan the trajectory was exported from (a partial "
+                        "plan's robots off target end at their starts)")
     p.add_argument("--jaeger", metavar="PATHS.json",
                    help="check a trajectory in SDSS-V's jaeger format instead of a plan: the motion linear in time "
                         "between its points, every robot at once, and its joint speeds")
@@ -102,8 +105,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
         raise InputError(f"must be a number of mm in [{lo:g}, {hi:g}], got {args.resolution}",
                          value=args.resolution, where="--resolution")
     jaeger = getattr(args, "jaeger", None)
-    if (args.plan is None) == (jaeger is None):
-        raise InputError("give a PLAN.json or --jaeger PATHS.json (exactly one)", value=args.plan, where="check")
+    if args.plan is None and jaeger is None:
+        raise InputError("give a PLAN.json or --jaeger PATHS.json", value=args.plan, where="check")
     if jaeger is not None:
         return _run_jaeger(args, console)
     figure_suffix(args.figure, [args.problem, args.plan])
@@ -146,6 +149,12 @@ def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
+    if args.plan is not None:  # the plan's ends: a partial plan's robots off target end at their starts
+        from ..problems.validate_partial import partial_problem
+
+        plan = load_plan(args.plan, problem)
+        if plan.status == "partial":
+            problem = partial_problem(problem, plan, [])
     try:
         res = check_jaeger(problem, args.jaeger, max_rpm=args.max_rpm, reverse=args.reverse,
                            resolution=args.resolution)

@@ -269,14 +269,15 @@ def _repair_line(colliding: list, plan) -> str:
 
 
 def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
-    """Write ``--jaeger``/``--jaeger-reverse`` for a complete plan; the lines saying so."""
-    from ..problems.jaeger import jaeger_paths, write_jaeger
+    """Write ``--jaeger``/``--jaeger-reverse`` for a complete or partial plan; the lines saying so
+    (for a partial plan, the robots off target: PLAN.json's ``off_target``)."""
+    from ..problems.jaeger import jaeger_paths, positioner_keys, write_jaeger
 
     text = ""
     for flag, path in files.items():
         if path is None:
             continue
-        if plan.status != "complete":
+        if plan.status not in ("complete", "partial"):
             text += f"\nno jaeger trajectory (the plan is {plan.status}): {path} not written"
             continue
         paths = jaeger_paths(problem, plan, rpm=args.rpm, acceleration=args.acceleration,
@@ -285,4 +286,8 @@ def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
         text += (f"\njaeger trajectory {'back to the starts' if flag == '--jaeger-reverse' else 'to the targets'} "
                  f"written to {path} ({paths.points} points, {paths.motion_time_s:.3f} s at "
                  f"{paths.speed_deg_s:g} deg/s)")
+        if plan.status == "partial":
+            keys = positioner_keys(problem)
+            text += (f"; {len(plan.off_target)} robots off target stay at their starts (positioner IDs "
+                     f"{', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
     return text

@@ -34,6 +34,14 @@ number on target is the maximum of the discretised single-move model over plans 
 robots off target end at their starts.  ``on_target_bound`` is ``N`` minus the number of
 such disjoint groups: no plan has more robots on target.
 
+4. **Finer lattice** (where ``solve`` was given one and the whole problem has a certificate
+   there too): the robots off target are put back all at once on the finer lattice; each
+   certificate found there keeps the robots it names that were being put back off target,
+   and the others are tried again, until ``P(O)`` has a plan on the finer lattice (it is the
+   answer, planned on that lattice) or no robot is left to put back.  A plan there may hold
+   more robots on target than the problem's lattice allows, so its answer is not ``optimal``
+   and its bound is every robot.
+
 If the budget ends during the search, the best set found so far is the answer (its robots
 named by their certificates, ``optimal`` false); before any set is found, every robot not
 yet decided stays at its start with ``"not proven: budget"``.
@@ -99,10 +107,15 @@ class PartialStats:
     candidates: list[int] = field(default_factory=list)
     seconds: float = 0.0
 
+    #: step 4: sub-problems tried on the finer lattice, and the robots it put back on target
+    finer_attempts: int = 0
+    finer_put_back: list[int] = field(default_factory=list)
+
     def to_json(self) -> dict:
         """The ``stats["partial"]`` object of PLAN.json."""
         return {"attempts": self.attempts, "nogoods": self.nogoods, "method": self.method,
-                "candidates": list(self.candidates), "seconds": self.seconds}
+                "candidates": list(self.candidates), "seconds": self.seconds,
+                "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back)}
 
 
 @dataclass
@@ -216,6 +229,31 @@ class _Search:
             if r in self.best and not self.excluded(fewer):
                 self.attempt(fewer)
 
+    def finer(self, attempt: Attempt) -> None:
+        """Step 4 of the module docstring: the robots off target put back on the finer lattice."""
+        assert self.best is not None
+        back = set(self.best)
+        while back:
+            off = self.best - back
+            reduced = reduced_problem(self.problem, off)
+            clash = [(int(a), int(b)) for a, b, _ in reduced.collisions(reduced.target)]
+            if clash:  # a robot put back ends on a neighbour left at its start
+                back -= {r for pair in clash for r in pair}
+                continue
+            self.stats.finer_attempts += 1
+            if self.progress is not None:
+                self.progress("partial", {"off_target": len(off), "attempts": self.stats.attempts,
+                                          "finer_attempts": self.stats.finer_attempts})
+            found = attempt(reduced)
+            if isinstance(found, Plan):
+                self.stats.finer_put_back = sorted(int(r) for r in back)
+                self.best, self.best_plan = off, found
+                return
+            kept = back & set(int(m) for m in found[0])
+            if not kept:  # the finer lattice's certificate names no robot being put back
+                return
+            back -= kept
+
     def reason(self, r: int, off: frozenset[int]) -> OffTarget:
         """Why ``r`` is off target in ``off``: a nogood that excludes putting it back, else the
         one it was chosen for, else the budget."""
@@ -239,7 +277,7 @@ class _Search:
 
 
 def partial_search(problem: Problem, members: list[int], how: str, attempt: Attempt,
-                   progress: Callable | None = None) -> PartialResult:
+                   progress: Callable | None = None, finer: Attempt | None = None) -> PartialResult:
     """After a certificate (``members``, ``how``) of ``problem``: the robots to leave off
     target, and a complete plan of the problem with them ending at their starts (module
     docstring: the greedy, exact and minimal steps, and what is guaranteed).
@@ -258,6 +296,9 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
         :class:`~supcoord.errors.BudgetExceeded` when the budget ends.
     progress : callable, optional
         ``progress("partial", {"off_target", "attempts"})`` before each attempt.
+    finer : callable, optional
+        ``finer(P)`` → a complete plan of ``P`` on a finer lattice (its ``lattice`` set) or the
+        certificate ``(members, how)`` found there (step 4); None: no step 4.
 
     Returns
     -------
@@ -301,6 +342,11 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
         budget_ended = False
     except BudgetExceeded:
         budget_ended = True
+    if finer is not None and not budget_ended and search.best:
+        try:
+            search.finer(finer)
+        except BudgetExceeded:
+            pass  # the answer on the problem's own lattice stands
     return _result(search, budget_ended, time.perf_counter() - t0)
 
 
@@ -320,8 +366,11 @@ def _result(search: _Search, budget_ended: bool, seconds: float) -> PartialResul
     uniform = problem.weight is None or len(set(problem.weight)) == 1
     bound = problem.n - search.packing()
     on_target = problem.n - len(off)
-    optimal = not budget_ended and search.best is not None and (
+    refined = bool(stats.finer_put_back)  # planned on the finer lattice: the lattice's bounds do not hold
+    optimal = not budget_ended and search.best is not None and not refined and (
         stats.method == "exact" or (uniform and on_target == bound))
+    if refined:
+        bound = problem.n
     plan = search.best_plan
     if plan is None:
         plan = Plan("complete", [problem.start.copy()], 0, lower_bound(reduced_problem(problem, off)), [], "", {})

@@ -397,7 +397,10 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
 def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Solved, t0: float) -> Plan:
     """After the infeasible ``verdict``: the partial plan (:func:`.partial.partial_search`,
     each sub-problem by the route alone, single moves, no improvement), its robots off target
-    then planned once more as asked (improvement, speed) and the plan validated whole."""
+    then planned once more as asked (improvement, speed) and the plan validated whole.  Every
+    sub-problem is solved in the direction the whole problem's descent found easier (one
+    descent each instead of two; the verdict is the same either way)."""
+    settings = _known_direction(settings, verdict.stats.direction)
     quick = replace(settings, improve=0, speed=None, simultaneous=None, finer=None, validation="none")
 
     def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
@@ -408,13 +411,13 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
 
     assert verdict.certificate is not None
     found = partial_search(problem, list(verdict.certificate.members), verdict.certificate.how, attempt,
-                           settings.progress)
+                           settings.progress, _finer_attempt(problem, verdict, quick, budget))
     plan, stats = _final_plan(problem, settings, budget, found), dict(verdict.plan.stats)
     stats.update({k: v for k, v in plan.stats.items() if k not in stats})
     stats.update(partial=found.stats.to_json(), seconds=time.perf_counter() - t0)
     out = Plan("partial", plan.configurations, plan.makespan, plan.lower_bound, plan.events,
                partial_summary(problem.n, found.on_target, found.off_target), stats, plan.angles_deg,
-               plan.trajectories, plan.motion_time_s, None, off_target=found.off_target, on_target=found.on_target,
+               plan.trajectories, plan.motion_time_s, plan.lattice, off_target=found.off_target, on_target=found.on_target,
                optimal=found.optimal, on_target_bound=found.on_target_bound)
     if settings.validation == "independent":
         _phase(settings.progress, "validate", steps=len(out.configurations) - 1)
@@ -425,16 +428,47 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
     return out
 
 
+def _finer_attempt(problem: Problem, verdict: Solved, quick: _Settings, budget: Budget) -> Callable | None:
+    """Step 4 of :mod:`.partial`: ``P(O)`` solved on the finer lattice where the whole problem
+    has a certificate there too (``stats.refined``); None where the finer lattice was not searched."""
+    refined = verdict.stats.refined
+    if refined is None or refined.status != "infeasible" or not refined.lattice:
+        return None
+    steps = tuple(refined.lattice)
+    fine = at_lattice(problem, steps)
+
+    def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
+        off = frozenset(int(r) for r in np.flatnonzero(np.any(sub.target != problem.target, axis=1)))
+        solved = _solve(reduced_problem(fine, off), quick, budget)
+        if solved.certificate is not None:
+            return sorted(int(m) for m in solved.certificate.members), solved.certificate.how
+        solved.plan.lattice = steps
+        return solved.plan
+
+    return attempt
+
+
+def _known_direction(settings: _Settings, direction: str | None) -> _Settings:
+    """``settings`` whose local route solves in ``direction`` (``"forward"``/``"reverse"``)
+    where it would have chosen the easier one itself."""
+    route = settings.route
+    if direction is None or not isinstance(route, Local) or route.direction != "easier":
+        return settings
+    return replace(settings, route=replace(route, direction=direction))
+
+
 def _final_plan(problem: Problem, settings: _Settings, budget: Budget, found: PartialResult) -> Plan:
     """The plan of the robots off target ``found``: planned again with the improvement and speed
     asked for where the search's own plan had neither (its plan if the budget ends first)."""
     off = frozenset(e.robot for e in found.off_target)
-    reduced = reduced_problem(problem, off)
+    lattice = found.plan.lattice  # the finer lattice's plan (step 4 of .partial), else None
+    reduced = reduced_problem(problem if lattice is None else at_lattice(problem, lattice), off)
     if found.stats.method != "budget" and (settings.improve != 0 or settings.speed is not None):
         try:
             solved = _solve(reduced, replace(settings, simultaneous=None, finer=None, validation="none"), budget)
             if solved.plan.status == "complete":
                 solved.plan.stats = solved.stats.to_json()
+                solved.plan.lattice = lattice
                 return solved.plan
         except BudgetExceeded:
             pass  # the search's own plan, unimproved

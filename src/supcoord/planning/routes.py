@@ -227,7 +227,8 @@ class LocalRoute:
     def run(self, stats: SolveStats) -> RouteResult:
         work, descended = self.problem, None  # what the windows solve: the problem, or target and start exchanged
         if self.options.descent == "greedy" and self.problem.n > 1:
-            work, descended = easier_direction(self.problem, self.model, stats, self.options.watcher())
+            work, descended = easier_direction(self.problem, self.model, stats, self.options.watcher(),
+                                               self.options.direction)
             if work is not self.problem:
                 self.model = self.new_model(work, self.options.order)
         stats.search = WindowStats()
@@ -245,7 +246,7 @@ def route_runner(problem: Problem, route: Route, new_model: ModelMaker) -> Local
 
 
 def easier_direction(problem: Problem, model: CoordinationModel, stats: SolveStats,
-                     observer: WindowObserver) -> tuple[Problem, tuple[list, np.ndarray]]:
+                     observer: WindowObserver, direction: str = "easier") -> tuple[Problem, tuple[list, np.ndarray]]:
     """``problem``, or the same problem with start and target exchanged when the greedy
     descent leaves strictly fewer robots short of their goal that way.
 
@@ -256,9 +257,17 @@ def easier_direction(problem: Problem, model: CoordinationModel, stats: SolveSta
     either way.  Only the work differs, as for SDSS-V's robots, which fold into their
     lattice far more easily than they unfold from it (kaiju plans folds and reverses them).
     Returns the problem to solve and its descent (``(steps, end)``), which the windows reuse.
+    ``direction`` ``"forward"`` or ``"reverse"`` (:data:`.windows.DIRECTIONS`) runs that
+    descent only (``stats.descent_short`` stays None).
     """
     conflict_graph(problem)  # the tables and guards, shared with the exchanged problem
     flipped = exchanged(problem)
+    if direction != "easier":
+        work = problem if direction == "forward" else flipped
+        steps, end = descent(work, work.start, check=model.ctx.check_budget)
+        observer.descended(steps)
+        stats.direction = direction
+        return work, (steps, end)
     short, runs = [], []
     for candidate in (problem, flipped):
         steps, end = descent(candidate, candidate.start, check=model.ctx.check_budget)

@@ -105,7 +105,7 @@ from .model import CoordinationModel
 from .search import WindowBudget, blockers, search, shortest_moves
 from .solve_stats import WindowStats
 
-__all__ = ["solve_local", "apply_moves_from", "LEVELS", "SMALL_COMPONENT", "DESCENTS", "Local", "LocalResult",
+__all__ = ["solve_local", "apply_moves_from", "LEVELS", "SMALL_COMPONENT", "DESCENTS", "DIRECTIONS", "Local", "LocalResult",
            "Certificate", "WindowOutcome", "WindowObserver"]
 
 #: node caps of one window's bidirectional search, tried in turn over every stuck positioner;
@@ -120,6 +120,10 @@ DISPLACED: tuple[int, ...] = (1, 2)
 #: what moves the robots between the windows' rounds: ``"greedy"`` the serialisable greedy
 #: descent (:mod:`.descent`), ``"none"`` nothing (windows only)
 DESCENTS = ("greedy", "none")
+#: the direction the local route solves in: ``"easier"`` the one where the greedy descent leaves
+#: fewer robots short (both descents run), ``"forward"`` start → target, ``"reverse"`` target →
+#: start read backwards (one descent: for a problem whose easier direction is already known)
+DIRECTIONS = ("easier", "forward", "reverse")
 
 
 @dataclass(frozen=True)
@@ -168,16 +172,17 @@ class Local:
 
     ``order``: the shared model's variable order (``"rcm"`` or ``"hex"``); ``levels``: the
     windows' node caps, tried in turn (BDD nodes; the last must be None, uncapped);
-    ``descent``: one of :data:`DESCENTS`; ``small_component``: conflict components of at most
-    this many configurations are solved by one exact window; ``observer``: hooks that watch
-    the run (:class:`WindowObserver`).  No option changes a verdict; they change the work and
-    the plan found."""
+    ``descent``: one of :data:`DESCENTS`; ``direction``: one of :data:`DIRECTIONS`;
+    ``small_component``: conflict components of at most this many configurations are solved by
+    one exact window; ``observer``: hooks that watch the run (:class:`WindowObserver`).  No
+    option changes a verdict; they change the work and the plan found."""
 
     order: str = "rcm"
     levels: tuple[int | None, ...] = LEVELS
     descent: str = "greedy"
     small_component: int = SMALL_COMPONENT
     observer: WindowObserver | None = None
+    direction: str = "easier"
 
     name = "local"
 
@@ -187,6 +192,9 @@ class Local:
         if self.descent not in DESCENTS:
             raise InputError(f"unknown descent {self.descent!r} (use {' or '.join(DESCENTS)})", value=self.descent,
                              where="descent")
+        if self.direction not in DIRECTIONS:
+            raise InputError(f"unknown direction {self.direction!r} (use {', '.join(DIRECTIONS)})",
+                             value=self.direction, where="direction")
         if not self.levels or self.levels[-1] is not None:
             raise ModelError("the last window level must be uncapped (None)", value=self.levels)
 

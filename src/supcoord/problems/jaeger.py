@@ -25,6 +25,11 @@ same, one path to the targets and one back.  :func:`jaeger_paths` writes a compl
   point is the start angle and the last the target angle exactly (the problem's own, for the
   reverse path the other way round), times strictly increasing.
 
+A ``partial`` plan is exported the same way: each robot off target follows its own path to
+where the plan leaves it (its start, :func:`.off_target.partial_end`), which is its last point
+(the first of the reverse path); PLAN.json's ``off_target`` names those robots, and
+``supcoord check PROBLEM PLAN.json --jaeger PATHS.json`` checks the file against the plan's ends.
+
 The reverse path (``reverse=True``) is the same motion run backwards in time, from the
 targets to the starts, as kaiju's ``fromDestination``.  The motion between the exported
 points, every robot at once, is what ``supcoord check --jaeger`` validates
@@ -44,6 +49,7 @@ from ..errors import InputError
 from ..geometry.layout import _finite_number
 from ..instruments import load_instrument, motion_limits
 from ..outputs import atomic_write_text, check_output
+from .off_target import partial_end
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
@@ -153,12 +159,13 @@ def _simplified(points: np.ndarray, speed: float) -> np.ndarray:
 
 def jaeger_paths(problem: Problem, plan: Plan, *, rpm: float | None = None, acceleration: float | None = None,
                  start_delay_s: float | None = None, reverse: bool = False) -> JaegerPaths:
-    """``plan`` (complete, with configurations) as jaeger's trajectory (module docstring).
+    """``plan`` (complete or partial, with configurations) as jaeger's trajectory (module docstring).
 
     Parameters
     ----------
-    problem, plan : the problem and a complete plan of it (configurations; on the plan's
-        ``lattice`` when it names one).
+    problem, plan : the problem and a complete or partial plan of it (configurations; on the
+        plan's ``lattice`` when it names one); a partial plan's robots off target end at their
+        starts.
     rpm : joint speed (RPM of the output shaft, 6°/s each); default the instrument's.
     acceleration : joint acceleration limit (deg/s²); None: none (every move at constant speed).
     start_delay_s : seconds before the first motion (default the instrument's, else 0).
@@ -167,10 +174,10 @@ def jaeger_paths(problem: Problem, plan: Plan, *, rpm: float | None = None, acce
     Raises
     ------
     InputError
-        A plan that is not complete, or a limit out of range (naming it).
+        A plan that is neither complete nor partial, or a limit out of range (naming it).
     """
-    if plan.status != "complete" or not plan.configurations:
-        raise InputError(f"a jaeger trajectory needs a complete plan with configurations, got status "
+    if plan.status not in ("complete", "partial") or not plan.configurations:
+        raise InputError(f"a jaeger trajectory needs a complete or partial plan with configurations, got status "
                          f"{plan.status!r}", value=plan.status, where="plan")
     speed, accel, delay = jaeger_limits(problem, rpm, acceleration, start_delay_s)
     on = problem if plan.lattice is None or tuple(plan.lattice) == problem.kinematics.shape else \
@@ -178,7 +185,8 @@ def jaeger_paths(problem: Problem, plan: Plan, *, rpm: float | None = None, acce
     angles = continuous_angles(on, plan.configurations)
     timing = plan_timing(on, plan.configurations, speed, angles, _move_time(speed, accel))
     total = timing.motion_time_s
-    ends = (problem.angles_deg(problem.start), problem.angles_deg(problem.target))
+    ends = (problem.angles_deg(problem.start),
+            problem.angles_deg(partial_end(problem.start, problem.target, tuple(plan.off_target))))
     names = [j.name for j in problem.kinematics.joints]
     moves: list[list[tuple[float, float, int]]] = [[] for _ in range(problem.n)]
     for k, p, t0, t1 in zip(timing.step.tolist(), timing.robot.tolist(), timing.start.tolist(), timing.end.tolist()):

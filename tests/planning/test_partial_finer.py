@@ -1,0 +1,78 @@
+"""Step 4 of the partial search (issue 37): robots left off target by certificates of the
+problem's lattice are put back where the finer lattice has a plan with them on target."""
+
+import numpy as np
+
+from supcoord.errors import BudgetExceeded
+from supcoord.planning.partial import partial_search
+from supcoord.problems.plan import Plan
+from supcoord.problems.problem import parse_problem
+
+TRIANGLE = {"layout": {"kind": "points", "xy": [[0.0, 0.0], [18.0, 0.0], [9.0, 15.0]]},
+            "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+            "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]}
+
+
+def _off(problem, sub):
+    return {int(r) for r in np.flatnonzero(np.any(sub.target != problem.target, axis=1))}
+
+
+def _plan(sub, lattice=None):
+    return Plan("complete", [sub.start.copy(), sub.target.copy()], 1, 1, [], "", {}, lattice=lattice)
+
+
+def _coarse(problem):
+    """On the problem's lattice neither robot 0 nor robot 1 can reach its target."""
+    def attempt(sub):
+        off = _off(problem, sub)
+        if 0 not in off:
+            return [0], "coarse"
+        return _plan(sub) if 1 in off else ([1], "coarse")
+    return attempt
+
+
+def test_the_finer_lattice_puts_back_the_robots_it_has_a_plan_for():
+    problem = parse_problem(TRIANGLE)
+    tried = []
+
+    def finer(sub):  # on the finer lattice only robot 1 stays off target
+        tried.append(sorted(_off(problem, sub)))
+        return _plan(sub, (24,)) if 1 in _off(problem, sub) else ([1, 2], "finer")
+
+    r = partial_search(problem, [0], "coarse", _coarse(problem), finer=finer)
+    assert tried == [[], [1]]  # all put back at once, then all but the finer certificate's robot
+    assert [e.robot for e in r.off_target] == [1] and r.on_target == 2
+    assert r.stats.finer_put_back == [0] and r.stats.finer_attempts == 2
+    assert r.plan.lattice == (24,)
+    assert not r.optimal and r.on_target_bound == 3  # the coarse lattice's bound says nothing there
+    assert r.off_target[0].certificate.members == (1,)  # the reason is still the coarse certificate
+
+
+def test_without_a_finer_plan_or_budget_the_coarse_answer_stands():
+    problem = parse_problem(TRIANGLE)
+    def refused(sub):
+        return [0, 1], "finer"
+
+    def out_of_time(sub):
+        raise BudgetExceeded("timeout")
+
+    for finer in (refused, out_of_time, None):
+        r = partial_search(problem, [0], "coarse", _coarse(problem), finer=finer)
+        assert sorted(e.robot for e in r.off_target) == [0, 1] and r.plan.lattice is None
+        assert r.stats.finer_put_back == [] and r.optimal and r.on_target_bound == 1
+
+
+def test_sub_problems_run_one_descent_in_the_whole_problems_direction():
+    from supcoord.planning import Local, solve
+    from supcoord.planning.windows import WindowObserver
+
+    class Count(WindowObserver):
+        descents = 0
+
+        def descended(self, steps):
+            Count.descents += 1
+
+    plan = solve(parse_problem(TRIANGLE), route=Local(observer=Count()), improve=0)
+    assert plan.status == "partial" and plan.stats["direction"] in ("forward", "reverse")
+    # both ways for the whole problem; one way for each sub-problem (both ways each: 2 + 2 per attempt)
+    assert Count.descents < 2 * (1 + plan.stats["partial"]["attempts"])
