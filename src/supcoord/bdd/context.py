@@ -101,8 +101,9 @@ class Context:
     def false(self) -> BDD:
         return self.bdd.false
 
-    def add_variable(self, name: str, size: int) -> FiniteVar:
-        """Declare ``name ∈ {0..size-1}`` with primed twin bits, below all earlier ones."""
+    def add_variable(self, name: str, size: int, level: int | None = None) -> FiniteVar:
+        """Declare ``name ∈ {0..size-1}`` with primed twin bits, below all earlier ones, or with
+        its first bit at ``level`` (the variables below it move down; CUDD only)."""
         if not isinstance(size, int) or size < 1:
             raise InputError(f"variable {name!r} needs a domain size >= 1, got {size!r}", value=size)
         if name in self.vars:
@@ -113,7 +114,12 @@ class Context:
         for b, p in zip(bits, primed):
             if b in self._bit_owner or p in self._bit_owner:
                 raise InputError(f"variable {name!r} clashes with the bits of another variable", value=name)
-            self.bdd.declare(b, p)
+            if level is None:
+                self.bdd.declare(b, p)
+            else:
+                self.bdd.insert_var(b, level)
+                self.bdd.insert_var(p, level + 1)
+                level += 2
             self._bit_owner[b] = name
             self._bit_owner[p] = name
         var = FiniteVar(name, size, bits, primed)

@@ -21,9 +21,11 @@ The new trajectory replaces the old when it arrives earlier; since every other
 trajectory is unchanged and each of ``r``'s steps was checked against the others'
 motion in that very step, the plan stays valid — and it still starts at the start and
 ends at the target.  Rounds go over the positioners in order of decreasing ``f_r``
-(the ones that set the makespan first) until a round improves nothing, the plan is as
-short as the largest joint distance from start to target (no plan is shorter), or the
-work budget (a number of re-plannings, never seconds: the same input gives the same plan
+(the ones that set the makespan first) until a round improves nothing, a pair of rounds
+neither shortens the plan nor takes a tenth of the positioners that set the makespan out of
+them (:data:`MIN_PROGRESS`: past that point the gains measured did not pay for the work), the
+plan is as short as the largest joint distance from start to target (no plan is shorter), or
+the work budget (a number of re-plannings, never seconds: the same input gives the same plan
 on any machine) runs out; trailing steps in which nothing moves are dropped.
 
 A *group* re-plan takes the positioner ``r`` and some neighbours out (its latest ones;
@@ -61,11 +63,18 @@ from .guards import conflict_graph, pair_graph, successor_table
 from .merged_motion import MergedMotions
 from .pair_replan import pair_replan
 
-__all__ = ["improve_plan", "ImproveStats", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS"]
+__all__ = ["improve_plan", "ImproveStats", "default_replans", "REPLANS_PER_POSITIONER", "MIN_REPLANS", "MIN_PROGRESS"]
 
 #: the default work budget of :func:`improve_plan` (space-time re-plannings tried)
 REPLANS_PER_POSITIONER = 4
 MIN_REPLANS = 200
+#: the stopping rule of :func:`improve_plan`: a pair of rounds that leaves the makespan as it was
+#: and takes fewer than this share of the robots setting it (finishing in its last two steps)
+#: out of them ends the improvement.  Measured on APO's wok and DESI's preset at 5 to 41 rings
+#: (benchmarks/results/nextgen_analysis.md): every makespan gained came after pairs that took
+#: at least 10 % out; the pairs that took fewer (1.5–3 % of a thousand robots at 41 rings)
+#: were followed by nothing gained, yet cost twice the work of all the gains before them
+MIN_PROGRESS = 0.1
 #: positioners whose masks (:meth:`_Replanner.layer_masks`, ``steps × options × positions``
 #: Booleans: 120 kB for 20 steps on a 36 × 19 lattice) are kept, the latest used
 LAYERS_KEPT = 256
@@ -158,6 +167,13 @@ class _Replanner:
         self.traj[:, r] = column
         if version is not None:
             self.version[r] = version
+
+    def late(self) -> int:
+        """How many positioners set the makespan: their last move in the plan's last two steps."""
+        moved = self.traj[1:] != self.traj[:-1]
+        steps = len(moved)
+        finish = np.where(moved.any(axis=0), steps - np.argmax(moved[::-1], axis=0), 0)
+        return int(np.count_nonzero(finish >= steps - 1))
 
     def finish(self, r: int) -> int:
         """``f_r``: the step after ``r``'s last move (0: it never moves)."""
@@ -427,7 +443,9 @@ class ImproveStats:
     robots in the way, ``improved_with_pairs`` by a pair re-planned together) and the time
     taken (``seconds``, wall clock); ``remembered``: attempts not redone because nothing near
     the robot changed since they failed; ``rounds``: after each pair of rounds, ``(re-plannings
-    so far, makespan, CPU seconds)``."""
+    so far, makespan, CPU seconds, robots setting the makespan)``; ``stopped``: why the rounds
+    ended — ``"floor"`` (no plan is shorter), ``"budget"`` (``max_replans`` tried), ``"no gain"``
+    (a round improved nothing) or ``"slow"`` (:data:`MIN_PROGRESS`)."""
 
     makespan_before: int
     replans: int
@@ -438,7 +456,8 @@ class ImproveStats:
     makespan_after: int
     seconds: float
     remembered: int = 0
-    rounds: tuple[tuple[int, int, float], ...] = ()
+    rounds: tuple[tuple[int, int, float, int], ...] = ()
+    stopped: str = ""
 
     def to_json(self) -> dict[str, Any]:
         """The statistics as a JSON object, in the order of the fields."""
@@ -450,9 +469,10 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
                  check: Callable[[], None] | None = None) -> tuple[list[np.ndarray], ImproveStats]:
     """A plan no longer than ``confs`` (module docstring) and statistics.
 
-    Rounds go on until one improves nothing or ``max_replans`` space-time re-plannings have
-    been tried (default :func:`default_replans`): a budget in units of work, not seconds,
-    so the same problem gives the same plan on any machine and any load.  ``check`` (the
+    Rounds go on until one improves nothing, a pair of rounds makes too little progress
+    (:data:`MIN_PROGRESS`) or ``max_replans`` space-time re-plannings have been tried
+    (default :func:`default_replans`): budget and rule count work, not seconds, so the same
+    problem gives the same plan on any machine and any load.  ``check`` (the
     caller's budget check) is called before each group and may raise."""
     t0 = time.perf_counter()
     if max_replans is None:
@@ -470,16 +490,29 @@ def improve_plan(problem: Problem, confs: list[np.ndarray], max_replans: int | N
 
 
 def _run_rounds(rp: _Replanner, max_replans: int, floor: int, check: Callable[[], None] | None = None) -> None:
-    """Rounds of ``rp`` until one improves nothing, ``max_replans`` re-plannings were tried or
-    the plan is ``floor`` steps long; ``rp.stats["rounds"]`` gets ``(re-plannings so far,
-    makespan, CPU seconds)`` after each pair of rounds."""
-    improved = True
+    """Rounds of ``rp`` until one improves nothing, a pair of them leaves the makespan and takes
+    fewer than :data:`MIN_PROGRESS` of the robots setting it out of them, ``max_replans``
+    re-plannings were tried or the plan is ``floor`` steps long; ``rp.stats["rounds"]`` gets
+    ``(re-plannings so far, makespan, CPU seconds, robots setting the makespan)`` after each
+    pair of rounds, ``rp.stats["stopped"]`` the reason (:class:`ImproveStats`)."""
     t0 = time.process_time()
     rounds = rp.stats.setdefault("rounds", [])
-    while improved and rp.stats["replans"] < max_replans and len(rp.traj) - 1 > floor:
+    late = rp.late()
+    while True:
+        if len(rp.traj) - 1 <= floor or rp.stats["replans"] >= max_replans:
+            rp.stats["stopped"] = "floor" if len(rp.traj) - 1 <= floor else "budget"
+            return
+        makespan = len(rp.traj) - 1
         # the wide groups only where the narrow ones are stuck
         improved = rp.round(max_replans, check) or rp.round(max_replans, check, wide=True)
-        rounds.append((rp.stats["replans"], len(rp.traj) - 1, round(time.process_time() - t0, 3)))
+        late, before = rp.late(), late
+        rounds.append((rp.stats["replans"], len(rp.traj) - 1, round(time.process_time() - t0, 3), late))
+        if not improved:
+            rp.stats["stopped"] = "no gain"
+            return
+        if len(rp.traj) - 1 == makespan and before - late < MIN_PROGRESS * before:
+            rp.stats["stopped"] = "slow"
+            return
 
 
 def default_replans(positioners: int) -> int:

@@ -23,9 +23,11 @@ Each pair guard is turned into a BDD on the actual bits from its table
 (:func:`.guards.table_bdd`); on fine lattices the other pairs of the same geometry get it by
 renaming the variables (the same function: ~1 ms against 10–40 ms from the table at
 36 × 19 positions; :data:`RENAME_MIN_ENTRIES`).  Frozen neighbours' guards are rows of the
-same tables.  The model of the whole grid declares every positioner in one
-:class:`~supcoord.bdd.Context`; a window's own manager copies its pair guards from it
-(``guards_from``) instead of building them again, or renames one it already has.
+same tables.  The model of the whole grid holds every positioner in one
+:class:`~supcoord.bdd.Context`, each declared when a window, guard or state first uses it
+(:meth:`CoordinationModel.declare`, at its place in the order); a window's own manager copies
+its pair guards from it (``guards_from``) instead of building them again, or renames one it
+already has.
 
 References
 ----------
@@ -36,6 +38,7 @@ References
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, field, replace
 from typing import Any, Iterable, Sequence
 
@@ -65,7 +68,8 @@ RENAME_MIN_ENTRIES = 2**16
 
 
 class CoordinationModel:
-    """Every positioner's variables in one context, guards cached per (positioner, move, neighbour).
+    """Every positioner's variables in one context (declared when first used), guards cached per
+    (positioner, move, neighbour).
 
     ``order``: ``"rcm"`` (default), ``"hex"`` (layout order), ``"cutwidth"``
     (:func:`.graph_order.cutwidth_order`, for windows) or an explicit permutation;
@@ -100,9 +104,15 @@ class CoordinationModel:
             if sorted(self.order) != universe:
                 raise InputError("order must be a permutation of the positioners", value=order)
         self.ctx = Context(backend, budget=budget, progress=progress, reordering=reordering)
-        for p in self.order:
-            for name, jt in zip(var_names(problem, p), self.kin.joints):
-                self.ctx.add_variable(name, jt.steps)
+        self._rank = {p: i for i, p in enumerate(self.order)}
+        self._declared: list[int] = []  # ranks of the positioners declared so far, sorted
+        self._declared_set: set[int] = set()
+        #: a positioner's variables are declared when first used, at their place in ``order``
+        #: (CUDD inserts them at a level); another backend, or dynamic reordering, gets all at once
+        self._lazy = self.ctx.backend == "cudd" and not reordering
+        if not self._lazy:
+            for p in self.order:
+                self.declare(p)
         self.adj = conflict_graph(problem)
         self.moves = self.kin.moves()
         self._pair_guard: dict[tuple[int, int, int], BDD] = {}
@@ -114,6 +124,37 @@ class CoordinationModel:
         self._identity: dict[str, BDD] = {}
 
     # -- pieces ------------------------------------------------------------------
+    def declare(self, p: int) -> None:
+        """Declare ``p``'s variables unless they are: below those of the declared positioners
+        before ``p`` in :attr:`order`, above those after it, so every BDD is the one a manager
+        declaring all positioners up front builds.  Memory grows with the positioners the
+        search touches (CUDD keeps a unique subtable per bit: ~107 KiB per alpha-beta robot).
+
+        Raises
+        ------
+        ModelError
+            ``p`` is not one of the model's positioners."""
+        if p in self._declared_set:
+            return
+        rank = self._rank.get(p)
+        if rank is None:
+            raise ModelError(f"positioner {p!r} is not declared in this model", value=p)
+        at = bisect.bisect_left(self._declared, rank)
+        level = None
+        if self._lazy:
+            level = at * sum(2 * max(1, (jt.steps - 1).bit_length()) for jt in self.kin.joints)
+        for name, jt in zip(var_names(self.problem, p), self.kin.joints):
+            var = self.ctx.add_variable(name, jt.steps, level)
+            if level is not None:
+                level += 2 * len(var.bits)
+        self._declared.insert(at, rank)
+        self._declared_set.add(p)
+
+    @property
+    def declared(self) -> int:
+        """How many positioners have their variables declared."""
+        return len(self._declared_set)
+
     def _shape(self) -> tuple[int, ...]:
         return self.kin.shape
 
@@ -122,6 +163,7 @@ class CoordinationModel:
         key = (p, m)
         r = self._step.get(key)
         if r is None:
+            self.declare(p)
             joint, delta = self.moves[m]
             jt = self.kin.joints[joint]
             name = var_names(self.problem, p)[joint]
@@ -139,6 +181,8 @@ class CoordinationModel:
         key = (p, m, q)
         g = self._pair_guard.get(key)
         if g is None:
+            self.declare(p)
+            self.declare(q)
             names = var_names(self.problem, p) + var_names(self.problem, q)
             shared = self.problem.pair_geometry_key(k) + (side, m)  # same key, same blocked table
             rename = self.kin.n_positions ** 2 >= RENAME_MIN_ENTRIES
@@ -172,6 +216,7 @@ class CoordinationModel:
         key = (p, m, q, cq)
         g = self._unary_guard.get(key)
         if g is None:
+            self.declare(p)
             b = blocked_column(self.problem, k, side, m, cq)
             g = table_bdd(self.ctx, ~b.reshape(self._shape()), var_names(self.problem, p))
             self._unary_guard[key] = g
@@ -186,6 +231,7 @@ class CoordinationModel:
         key = (p, m, outside)
         g = self._unary_guard.get(key)
         if g is None:
+            self.declare(p)
             own = self.problem.unary().get(p)
             blocked = np.zeros(self.kin.n_positions, dtype=bool) if own is None else own[1][m].copy()
             for k, side, cq in outside:
@@ -198,6 +244,7 @@ class CoordinationModel:
         """The cube of the members' positions in ``config`` (``(N, J)``)."""
         values = {}
         for p in members:
+            self.declare(p)
             for name, v in zip(var_names(self.problem, p), config[p]):
                 values[name] = int(v)
         return self.ctx.assignment(values)
@@ -215,6 +262,8 @@ class CoordinationModel:
         windows of a few alpha-beta robots, where the relations stay small)."""
         problem, ctx = self.problem, self.ctx
         members = sorted(int(p) for p in members)
+        for p in members:
+            self.declare(p)
         inside = set(members)
         init = problem.start if init is None else init
         target = problem.target if target is None else target
@@ -268,6 +317,7 @@ class CoordinationModel:
 
     def position_cube(self, p: int, position: Any) -> BDD:
         """The cube ``x_p = position``."""
+        self.declare(p)
         return self.ctx.assignment({n: int(v) for n, v in zip(var_names(self.problem, p), position)})
 
     def decode(self, values: dict[str, int], members: Sequence[int], into: np.ndarray) -> np.ndarray:
