@@ -317,7 +317,9 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
         ``progress(stage, info)``, told of each phase and fixpoint iteration.
     improve : int, optional
         Space-time re-plannings that may shorten the plan (None: :func:`.improve.default_replans`;
-        0: off): work, not seconds, so the same input gives the same plan anywhere.
+        0: off): work, not seconds, so the same input gives the same plan anywhere.  The
+        improvement also stops early when two rounds in a row keep the makespan and take
+        few of the robots that set it out of the last steps (:mod:`.improve`).
     speed : float, optional
         Joint speed in degrees per second: the plan gets ``trajectories`` and
         ``motion_time_s`` (:mod:`supcoord.problems.trajectory`).
