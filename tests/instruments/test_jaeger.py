@@ -85,7 +85,7 @@ def test_limits_are_refused_with_their_name(hex_plan):
     assert exc.value.where == "rpm"
     with pytest.raises(InputError, match="needs a joint speed"):
         jaeger_paths(problem, plan)   # no instrument to take the speed from
-    with pytest.raises(InputError, match="complete plan"):
+    with pytest.raises(InputError, match="complete or partial plan"):
         jaeger_paths(problem, Plan("unknown"), rpm=2)
 
 
