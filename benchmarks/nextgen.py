@@ -79,6 +79,17 @@ def figure(rows: list[dict], path: str) -> None:
     plt.close(fig)
 
 
+def provenance(rows: list[dict]) -> list[str]:
+    """Which machine, code version and dates the rows come from, and how to read their seconds."""
+    def distinct(key: str) -> str:
+        return ", ".join(sorted({str(r[key]) for r in rows if r.get(key)})) or "unknown"
+    started = sorted(r["started"] for r in rows if r.get("started"))
+    when = f"{started[0]} to {started[-1]}" if started else "unknown"
+    return [f"Machine: {distinct('machine')} ({distinct('cpu')}); code version {distinct('version')}; "
+            f"cases started {when}. `seconds` is wall-clock time under the load average of the last "
+            "column (a shared machine): compare CPU seconds.", ""]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-run", action="store_true", help="only write the results from the database")
@@ -95,7 +106,7 @@ def main() -> None:
     pooled = [dict(r, series="all series, improve=0") for r in answered if "improve=0" in r["series"]]
     lines = ["# Next-generation focal planes: 469 to 32,137 robots", "",
              "Written by `python benchmarks/nextgen.py` from the study `benchmarks/studies/nextgen.toml`",
-             "(each case in a process of its own, under its time and memory limits; 2 workers).", "",
+             "(each case in a process of its own, under its time and memory limits; 2 workers).", ""] + provenance(rows) + [
              "## Cases", ""] + table(rows) + ["", "## Fitted growth (cases that answered)", ""] + growths(answered + pooled)
     with open(os.path.join(RESULTS, "nextgen.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
