@@ -83,10 +83,12 @@ def _ints(v: Sequence[int] | np.ndarray) -> tuple[int, ...]:
 
 
 def _motion_hit(problem: Problem, cache: dict, k: int, side: int, x: tuple[int, ...], dx: tuple[int, ...],
-                y: tuple[int, ...], dy: tuple[int, ...], tol: float) -> bool:
+                y: tuple[int, ...], dy: tuple[int, ...], tol: float, geometry: tuple | None = None) -> bool:
     """:func:`motion_free`'s verdict negated, on poses and deltas given as tuples of ints, read
-    from or written to ``cache`` (the problem's ``PlanningCache.motions``)."""
-    key = problem.pair_geometry_key(k) + ((x, dx, y, dy) if side == 0 else (y, dy, x, dx))
+    from or written to ``cache`` (the problem's ``PlanningCache.motions``); ``geometry``: the
+    pair's :meth:`Problem.pair_geometry_key` when the caller has it."""
+    key = (problem.pair_geometry_key(k) if geometry is None else geometry) + \
+        ((x, dx, y, dy) if side == 0 else (y, dy, x, dx))
     hit = cache.get(key)
     if hit is None:
         a, b = (int(v) for v in problem.pairs[k])
@@ -120,6 +122,32 @@ class _Lookups:
         self._starts: dict[tuple, list[tuple[int, list[int]]]] = {}
         self._poses: dict[tuple, list[int]] = {}
         self._bytes: dict[tuple, tuple[memoryview, int, int]] = {}
+        self._wanted: dict[tuple[int, tuple[int, ...]], list[list[tuple[int, int]]]] = {}
+        self._geometry: dict[int, tuple] = {}
+        self._own: dict[tuple, bool] = {}
+
+    def wanted(self, c: np.ndarray, cp: tuple[int, ...], p: int) -> list[list[tuple[int, int]]]:
+        """:func:`wanted_moves` of ``p`` at ``c`` (``cp``: ``c[p]`` as a tuple), memoised by ``(p, cp)``
+        (the target is the problem's)."""
+        out = self._wanted.get((p, cp))
+        if out is None:
+            out = self._wanted[p, cp] = wanted_moves(self.problem, c, p)
+        return out
+
+    def own_blocked(self, p: int, cp: tuple[int, ...], d: tuple[int, ...], tol: float) -> bool:
+        """:meth:`Problem.own_motion_blocked` of one motion, memoised by ``(p, cp, d, tol)``."""
+        key = (p, cp, d, tol)
+        out = self._own.get(key)
+        if out is None:
+            out = self._own[key] = bool(self.problem.own_motion_blocked(p, cp, d, tol)[0])
+        return out
+
+    def geometry(self, k: int) -> tuple:
+        """:meth:`Problem.pair_geometry_key` of pair ``k``, memoised."""
+        out = self._geometry.get(k)
+        if out is None:
+            out = self._geometry[k] = self.problem.pair_geometry_key(k)
+        return out
 
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
         out = q.copy()
@@ -212,7 +240,7 @@ def _compatible(T: _Lookups, c: Sequence[tuple[int, ...]], chosen: dict[int, lis
     configuration ``c`` (a tuple of ints per positioner) beside the moves ``chosen``."""
     problem = T.problem
     if len(mp) > 1 or not T.adj[p]:  # several joints at once, or no neighbour table holds them: its own constraints
-        if problem.own_motion_blocked(p, c[p], T.delta(mp), tol)[0]:
+        if T.own_blocked(p, c[p], T.delta(mp), tol):
             return False
     for k, q, side in T.adj[p]:  # (1): both orders, every subset
         mq = chosen.get(q, [])
@@ -220,11 +248,13 @@ def _compatible(T: _Lookups, c: Sequence[tuple[int, ...]], chosen: dict[int, lis
             return False
         if mq and not _serialisable(T, k, 1 - side, c[q], mq, c[p], mp):
             return False
+    dp = None
     for k, q, side in T.pair_adj[p]:  # (2): merged motion of the pair
         mq = chosen.get(q, [])
         if not mq and len(mp) < 2:
             continue  # one joint against a standing neighbour: the swept table of (1)
-        if _motion_hit(problem, T.motions, k, side, c[p], T.delta(mp), c[q], T.delta(mq), tol):
+        dp = T.delta(mp) if dp is None else dp
+        if _motion_hit(problem, T.motions, k, side, c[p], dp, c[q], T.delta(mq), tol, T.geometry(k)):
             return False
     return True
 
@@ -233,27 +263,27 @@ def descent_step(problem: Problem, c: np.ndarray, T: _Lookups | None = None,
                  tol: float = DEFAULT_TOL) -> list[Move]:
     """The moves of one descent step from ``c`` (empty: a stall), in priority order."""
     T = T or _Lookups(problem)
-    todo = [p for p in range(problem.n) if not np.array_equal(c[p], problem.target[p])]
+    todo = np.nonzero((c != problem.target).any(axis=1))[0].tolist()
     todo.sort(key=lambda p: (problem.priority[p], p))
-    if T.lazy:
-        _prefetch(T, c, todo)
     ct = [tuple(row) for row in c.tolist()]
+    if T.lazy:
+        _prefetch(T, c, todo, ct)
     chosen: dict[int, list] = {}
     for p in todo:
-        for mp in wanted_moves(problem, c, p):
+        for mp in T.wanted(c, ct[p], p):
             if _compatible(T, ct, chosen, p, mp, tol):
                 chosen[p] = mp
                 break
     return [(p, j, d) for p in todo if p in chosen for j, d in chosen[p]]
 
 
-def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int]) -> None:
+def _prefetch(T: _Lookups, c: np.ndarray, todo: list[int], ct: list[tuple[int, ...]]) -> None:
     """Decide at once (:func:`.guards.blocked_entries`) every lazy table entry that
     condition (1) may read in this step: each unfinished positioner's candidate moves from its
     poses part-way through a candidate set, against each neighbour's poses part-way through
     one of its own (a superset of what the step reads, in one vectorised call instead of
     thousands of small ones)."""
-    cand = {p: wanted_moves(T.problem, c, p) for p in todo}
+    cand = {p: T.wanted(c, ct[p], p) for p in todo}
     poses: dict[int, list[int]] = {}  # q -> flat poses part-way through its candidates
     starts: dict[int, set[tuple[int, int]]] = {}  # p -> (move, flat pose it starts from)
     for p in todo:

@@ -339,17 +339,33 @@ def blocked_lookup(problem: Problem) -> BlockedLookup:
                                                                    + (move * n_pos + mover_at) * n_pos + other_at)
 
 
-def _move_blocked_any(problem: Problem, k: Pair) -> bool:
-    """Can pair ``k`` ever block a move (a collision within the motion ranges)?"""
-    kin = problem.kinematics
-    pos = kin.all_positions()
+def _move_blocked_any(problem: Problem, k: Pair, valid: Sequence[np.ndarray]) -> bool:
+    """Can pair ``k`` ever block a move (a collision within the motion ranges)?  ``valid[m]``:
+    the positions from which move ``m`` stays within the joints' ranges."""
     for mover in Mover:
         b = blocked_table(problem, k, mover)
-        for m, (joint, delta) in enumerate(kin.moves()):
-            ok = kin.step_valid(pos, joint, delta)
+        for m, ok in enumerate(valid):
             if b[m, ok].any():
                 return True
     return bool(problem.tables().static(k).any())
+
+
+def _blocking_pairs(problem: Problem) -> list[int]:
+    """The pairs for which :func:`_move_blocked_any` holds, decided once per pair geometry
+    (:meth:`Problem.pair_geometry_key`: the tables it reads are shared by equal keys)."""
+    kin = problem.kinematics
+    pos = kin.all_positions()
+    valid = [kin.step_valid(pos, joint, delta) for joint, delta in kin.moves()]
+    by_geometry: dict[tuple, bool] = {}
+    out = []
+    for k in range(len(problem.pairs)):
+        key = problem.pair_geometry_key(k)
+        hit = by_geometry.get(key)
+        if hit is None:
+            hit = by_geometry[key] = _move_blocked_any(problem, k, valid)
+        if hit:
+            out.append(k)
+    return out
 
 
 def _adjacency(problem: Problem, pairs: Iterable[int]) -> Adjacency:
@@ -383,7 +399,7 @@ def conflict_graph(problem: Problem) -> Adjacency:
     if cache.conflict_graph is None:
         if problem.robot_kinematics is not None or problem.unary():  # few shared tables: many pairs per call
             problem.tables().prepare(range(len(problem.pairs)))
-        blocking = [k for k in range(len(problem.pairs)) if _move_blocked_any(problem, k)]
+        blocking = _blocking_pairs(problem)
         release_free_heap()  # the blocked tables' temporaries
         cache.conflict_graph = _adjacency(problem, blocking)
     return cache.conflict_graph

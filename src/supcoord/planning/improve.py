@@ -78,6 +78,9 @@ MIN_PROGRESS = 0.1
 #: positioners whose masks (:meth:`_Replanner.layer_masks`, ``steps × options × positions``
 #: Booleans: 120 kB for 20 steps on a 36 × 19 lattice) are kept, the latest used
 LAYERS_KEPT = 256
+#: bytes of per-neighbour masks (:meth:`_Replanner.free_against`) kept, the latest used: a
+#: positioner's masks recomputed after one neighbour changed read the others' from here
+AGAINST_BYTES_KEPT = 48 << 20
 
 
 def _trajectories(problem: Problem, confs: list[np.ndarray]) -> np.ndarray:
@@ -130,6 +133,9 @@ class _Replanner:
         self._blocks: dict[tuple, np.ndarray] = {}  # (geometry, v, j0, conflict) -> block[option, position]
         #: r -> (what they were computed from, masks), the latest LAYERS_KEPT positioners used
         self._layers: OrderedDict[int, tuple[tuple, np.ndarray]] = OrderedDict()
+        #: (r, q) -> (q's version and the plan's length, ~neighbour_blocks), the latest used
+        self._against: OrderedDict[tuple[int, int], tuple[tuple[int, int], np.ndarray]] = OrderedDict()
+        self._against_bytes = 0
         self._hood: dict[int, np.ndarray] = {}  # r -> r and its neighbours up to two away
         self._failed: dict[tuple[bool, int], tuple[tuple, int]] = {}  # (wide, r) -> (what it read, replans)
 
@@ -168,12 +174,16 @@ class _Replanner:
         if version is not None:
             self.version[r] = version
 
+    def finishes(self) -> np.ndarray:
+        """:meth:`finish` of every positioner at once."""
+        moved = self.traj[1:] != self.traj[:-1]
+        if not len(moved):
+            return np.zeros(self.problem.n, dtype=np.int64)
+        return np.where(moved.any(axis=0), len(moved) - np.argmax(moved[::-1], axis=0), 0)
+
     def late(self) -> int:
         """How many positioners set the makespan: their last move in the plan's last two steps."""
-        moved = self.traj[1:] != self.traj[:-1]
-        steps = len(moved)
-        finish = np.where(moved.any(axis=0), steps - np.argmax(moved[::-1], axis=0), 0)
-        return int(np.count_nonzero(finish >= steps - 1))
+        return int(np.count_nonzero(self.finishes() >= len(self.traj) - 2))
 
     def finish(self, r: int) -> int:
         """``f_r``: the step after ``r``'s last move (0: it never moves)."""
@@ -229,16 +239,37 @@ class _Replanner:
         they need computed in one batch, :meth:`.MergedMotions.compute`)."""
         npos = len(self.pos)
         steps = len(self.traj) - 1  # the options may be those of a trajectory since cut short
-        codes = self.options(q)[:steps] * npos + self.traj[:-1, q]
-        uniq, inverse = np.unique(codes, return_inverse=True)
+        codes = (self.options(q)[:steps] * npos + self.traj[:-1, q]).tolist()
+        uniq = sorted(set(codes))
         conflict = (r, q) in self.conflict
-        wanted = [(int(c) // npos, int(c) % npos) for c in uniq.tolist()]
+        wanted = [(c // npos, c % npos) for c in uniq]
         missing = [(v, j0) for v, j0 in wanted if (v > 0 or len(self.deltas) > self.n_single)
                    and self.merged.key(k, side, v, j0) + (conflict,) not in self._blocks
                    and not self.merged.known(k, side, v, j0)]
         if missing:
             self.merged.compute(k, side, missing)
-        return np.stack([self.block(k, side, conflict, v, j0) for v, j0 in wanted])[inverse.ravel()]
+        blocks = [self.block(k, side, conflict, v, j0) for v, j0 in wanted]
+        if len(blocks) == 1:
+            return np.broadcast_to(blocks[0], (steps,) + blocks[0].shape)
+        index = {c: n for n, c in enumerate(uniq)}
+        return np.stack(blocks)[[index[c] for c in codes]]
+
+    def free_against(self, r: int, k: int, q: int, side: int) -> np.ndarray:
+        """``~``:meth:`neighbour_blocks`: ``r`` may do ``u`` from ``i`` during step ``t`` as far as
+        ``q`` doing its step ``t`` is concerned; kept per ``(r, q)`` until ``q``'s trajectory or
+        the plan's length changes (the latest :data:`AGAINST_BYTES_KEPT` bytes)."""
+        key = (int(self.version[q]), len(self.traj))
+        cached = self._against.pop((r, q), None)
+        if cached is not None and cached[0] != key:
+            self._against_bytes -= cached[1].nbytes
+            cached = None
+        if cached is None:
+            cached = (key, ~self.neighbour_blocks(r, k, q, side))
+            self._against_bytes += cached[1].nbytes
+        self._against[r, q] = cached
+        while self._against_bytes > AGAINST_BYTES_KEPT and len(self._against) > 1:
+            self._against_bytes -= self._against.popitem(last=False)[1][1].nbytes
+        return cached[1]
 
     def layer_masks(self, r: int) -> np.ndarray:
         """``masks[t, u, i]``: ``r`` may do option ``u`` from ``i`` during step ``t`` against its own
@@ -252,7 +283,7 @@ class _Replanner:
         if cached is None or cached[0] != key:
             masks = np.repeat(self.base(r)[None], len(self.traj) - 1, axis=0)
             for k, q, side in present:
-                masks &= ~self.neighbour_blocks(r, k, q, side)
+                masks &= self.free_against(r, k, q, side)
             cached = (key, masks)
         self._layers[r] = cached
         while len(self._layers) > LAYERS_KEPT:
@@ -409,7 +440,7 @@ class _Replanner:
         improved = False
         horizon = len(self.traj) - 1
         finish = self.finish
-        for r in sorted(range(self.problem.n), key=lambda r: (-finish(r), r)):
+        for r in np.lexsort((np.arange(self.problem.n), -self.finishes())).tolist():  # latest first
             if self.stats["replans"] >= max_replans or finish(r) == 0:
                 break
             if check is not None:
@@ -419,8 +450,7 @@ class _Replanner:
             if self.remembered_attempt(r, horizon, wide):
                 self.stats["improved"] += 1
                 improved = True
-        last = max(finish(r) for r in range(self.problem.n))
-        self.traj = self.traj[:last + 1]
+        self.traj = self.traj[:int(self.finishes().max(initial=0)) + 1]
         return improved
 
 

@@ -39,6 +39,7 @@ class MergedMotions:
         self.problem, self.pos, self.n_single, self.nxt, self.cache = problem, pos, n_single, nxt, cache
         self.deltas = np.asarray(deltas)
         self._geometry: dict[tuple[int, int], tuple] = {}  # (pair, side) -> the geometry key of (r, q)
+        self._entries: dict[int, tuple[np.ndarray, ...]] = {}  # see entries()
 
     def key(self, k: int, side: int, v: int, j0: int) -> tuple:
         """The cache key: the geometry of pair ``k`` seen from ``side`` (``r``'s), then ``(v, j0)``."""
@@ -61,21 +62,31 @@ class MergedMotions:
             hit = self.cache[key]
         return hit
 
+    def entries(self, v: int) -> tuple[np.ndarray, ...]:
+        """``(uu, ii, sel, uu[sel], ii[sel])``: the entries ``(u, i)`` of a table for the
+        neighbour's option ``v`` that are not the swept tables' (option-major), and which of
+        them stay on the lattice (``nxt[u, i] ≥ 0``); the same for every ``v`` of one kind
+        (standing, one joint, several)."""
+        kind = 0 if v == 0 else (1 if v < self.n_single else 2)
+        out = self._entries.get(kind)
+        if out is None:
+            wanted = [u for u in range(len(self.deltas))
+                      if not ((u == 0 and v < self.n_single) or (v == 0 and u < self.n_single))]
+            uu, ii = (x.ravel() for x in np.meshgrid(wanted, np.arange(len(self.pos)), indexing="ij"))
+            sel = np.nonzero(self.nxt[uu, ii] >= 0)[0]
+            out = self._entries[kind] = (uu, ii, sel, uu[sel], ii[sel])
+        return out
+
     def compute(self, k: int, side: int, keys: list[tuple[int, int]]) -> None:
         """The tables of pair ``k`` (``r`` on ``side``) for each ``(v, j0)`` in ``keys``, in one batch."""
         problem, pos, nxt, n_single = self.problem, self.pos, self.nxt, self.n_single
         a, b = (int(x) for x in problem.pairs[k])
         r, q = (a, b) if side == 0 else (b, a)
-        parts = []
-        for v, j0 in keys:
-            wanted = [u for u in range(len(self.deltas))
-                      if not ((u == 0 and v < n_single) or (v == 0 and u < n_single))]
-            uu, ii = (x.ravel() for x in np.meshgrid(wanted, np.arange(len(pos)), indexing="ij"))
-            parts.append((uu, ii, np.nonzero(nxt[uu, ii] >= 0)[0]))
-        uu_s = np.concatenate([uu[sel] for uu, _, sel in parts])
-        ii_s = np.concatenate([ii[sel] for _, ii, sel in parts])
-        v_s = np.concatenate([np.full(len(sel), v) for (v, _), (_, _, sel) in zip(keys, parts)])
-        j_s = np.concatenate([np.full(len(sel), j0) for (_, j0), (_, _, sel) in zip(keys, parts)])
+        parts = [self.entries(v) for v, _ in keys]
+        uu_s = np.concatenate([part[3] for part in parts])
+        ii_s = np.concatenate([part[4] for part in parts])
+        v_s = np.concatenate([np.full(len(part[2]), v) for (v, _), part in zip(keys, parts)])
+        j_s = np.concatenate([np.full(len(part[2]), j0) for (_, j0), part in zip(keys, parts)])
         dist = problem.tables().distance_view(k)
         dist = dist if side == 0 else dist.T  # [position of r, position of q]
         out = prefiltered_motion_collides(
@@ -83,7 +94,7 @@ class MergedMotions:
             problem.kin(q), problem.bases[q], j_s, nxt[v_s, j_s], self.deltas[v_s],
             float(problem.buffers[r] + problem.buffers[q]), dist)
         lo = 0
-        for (v, j0), (uu, ii, sel) in zip(keys, parts):
+        for (v, j0), (uu, ii, sel, _, _) in zip(keys, parts):
             entries = np.ones(len(uu), dtype=bool)  # past a hard stop: not allowed
             entries[sel] = out[lo:lo + len(sel)]
             lo += len(sel)
