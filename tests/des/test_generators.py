@@ -20,6 +20,7 @@ def components(draw, k_max=3):
     return [draw(generators(alphabet, 5, f"G{i}")) for i in range(k)]
 
 
+@pytest.mark.slow  # 200 random products of up to three generators: seconds
 @given(components())
 def test_symbolic_sync_equals_explicit(gens):
     ctx = Context()
@@ -27,6 +28,7 @@ def test_symbolic_sync_equals_explicit(gens):
     assert to_explicit(product).same_as(X.sync(*gens))
 
 
+@pytest.mark.slow  # 200 random generators through the symbolic form: seconds
 @given(components(k_max=1))
 def test_round_trip(gens):
     (g,) = gens
@@ -38,6 +40,7 @@ def test_round_trip(gens):
     assert back.n_states == len(reach)
 
 
+@pytest.mark.slow  # 200 random pairs of generators: seconds
 @given(components(k_max=2))
 def test_allevents_and_selfloop(gens):
     ctx = Context()

@@ -80,6 +80,7 @@ def test_interpolation_follows_the_short_way_round(three):
         interpolate_plan(three, plan, substeps=0)
 
 
+@pytest.mark.slow  # renders two 55-frame animations: seconds
 def test_gif_is_smooth_small_and_shows_collisions_in_red(tmp_path, three):
     good = save_plan_gif(three, _valid_plan(three), tmp_path / "good.gif", substeps=3)
     bad = save_plan_gif(three, _colliding_plan(three), tmp_path / "bad.gif", substeps=3)

@@ -303,6 +303,7 @@ def test_tables_survive_eviction_and_are_read_only(monkeypatch):
     assert packed.packed_bytes == 3 * 5 * 2
 
 
+@pytest.mark.slow  # every entry and line of two 19-robot tables, one at a time: seconds
 @pytest.mark.timeout(60)
 def test_swept_entries_and_lines_read_like_the_tables():
     """``swept_entry`` and ``swept_line`` (the schedule's and the plan improvement's readers)

@@ -54,6 +54,7 @@ def test_plan_json_states_the_definition(default_problem):
     assert plan.to_json(default_problem)["collision"]["definition"] == "sdss-v kaiju"
 
 
+@pytest.mark.slow  # reads the 500-robot wok problem again: seconds
 def test_round_trip_keeps_the_definition(default_problem):
     again = parse_problem(default_problem.to_json())
     assert again.collision_statement() == default_problem.collision_statement()
@@ -61,6 +62,7 @@ def test_round_trip_keeps_the_definition(default_problem):
     assert np.array_equal(again.obstacle_buffers, default_problem.obstacle_buffers)
 
 
+@pytest.mark.slow  # reads the 500-robot wok problem twice: seconds
 def test_a_user_margin_replaces_the_definition():
     p = _problem({"margin": 0.0})
     assert p.collision_statement()["definition"] == "problem"

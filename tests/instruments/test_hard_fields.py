@@ -25,6 +25,7 @@ def test_the_same_seed_gives_the_same_field_and_another_seed_another(fields):
     assert not np.array_equal(other.target, fields["close"].target)
 
 
+@pytest.mark.slow  # reads a 500-robot wok problem per field: seconds
 @pytest.mark.parametrize("kind", KINDS)
 def test_every_field_is_a_problem_the_reader_accepts(fields, kind):
     f = fields[kind]

@@ -83,6 +83,7 @@ def test_a_robot_without_neighbours_still_goes_round_an_obstacle(options):
     assert _clearance_along(p, plan, 0, [0.0, 15.0]) >= 2.0
 
 
+@pytest.mark.slow  # plans on the real wok's obstacles: seconds
 def test_obstacles_on_both_sides_make_it_infeasible():
     # the elbow circle (radius 7.4) passes within 0.6 mm of both: alpha can turn neither way
     p = _two([{"xy": [0.0, 8.0], "buffer": 1.0}, {"xy": [0.0, -8.0], "buffer": 1.0}],
@@ -126,6 +127,7 @@ def test_unary_tables_are_folded_into_every_pair_table():
     assert np.all(sim[0][np.broadcast_to(U[None, :, None], sim[0].shape)])
 
 
+@pytest.mark.slow  # reads a 500-robot wok problem: seconds
 @pytest.mark.parametrize("name", ["sdss-v-apo", "sdss-v-lco"])
 def test_the_real_woks_are_layouts(name):
     n = 500
@@ -139,6 +141,7 @@ def test_the_real_woks_are_layouts(name):
     assert "alpha" not in p.to_json()["kinematics"]
 
 
+@pytest.mark.slow  # reads the 500-robot wok problems: seconds
 def test_instrument_errors_name_field_and_value():
     base = {"start": {"alpha_beta_deg": [[10.0, 170.0]] * 500}, "target": {"alpha_beta_deg": [[10.0, 170.0]] * 500}}
     with pytest.raises(InputError, match=r"layout.name: unknown instrument 'sdss-v-xyz' \(known: sdss-v-apo, sdss-v-lco\)"):
