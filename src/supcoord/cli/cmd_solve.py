@@ -85,6 +85,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--require-all", action="store_true",
                    help="answer complete or infeasible only (default: where no plan puts every robot on its target, "
                         "a partial plan with the most robots on target, the others named with a reason)")
+    p.add_argument("--off-target-end", choices=["start", "folded"], default="start",
+                   help="where a partial plan's robots off target end: start (default), or folded (beta at 180 deg, "
+                        "alpha where it starts) where a plan reaches it")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -158,7 +161,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
                  progress=console.progress, speed=speed, improve=improve,
                  simultaneous=None if args.single_move_only else Simultaneous(),
                  finer=None if args.no_refine else FinerLattice(),
-                 when_incomplete="infeasible" if args.require_all else "partial")
+                 when_incomplete="infeasible" if args.require_all else "partial",
+                 off_target_end=getattr(args, "off_target_end", "start"))
     if args.out:
         with as_option("--out"):
             plan.dump(args.out, problem)
@@ -289,7 +293,8 @@ def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
                  f"written to {path} ({paths.points} points, {paths.motion_time_s:.3f} s at "
                  f"{paths.speed_deg_s:g} deg/s)")
         if plan.status == "partial":
-            keys = positioner_keys(problem)
-            text += (f"; {len(plan.off_target)} robots off target stay at their starts (positioner IDs "
-                     f"{', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
+            keys, folded = positioner_keys(problem), sum(e.end == "folded" for e in plan.off_target)
+            text += (f"; {len(plan.off_target)} robots off target stay at their starts"
+                     + (f" or fold ({folded} folded)" if folded else "")
+                     + f" (positioner IDs {', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
     return text
