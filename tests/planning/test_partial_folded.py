@@ -74,4 +74,4 @@ def test_rotary_robots_have_no_fold_and_end_at_their_starts():
                              "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]})
     plan = solve(problem, improve=0, off_target_end="folded")
     assert plan.status == "partial" and all(e.end == "start" for e in plan.off_target)
-    assert plan.stats["partial"]["fold_attempts"] == 0 and validate_plan(problem, plan).valid
+    assert "fold_attempts" not in plan.stats["partial"] and validate_plan(problem, plan).valid

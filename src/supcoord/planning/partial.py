@@ -118,7 +118,7 @@ class PartialStats:
     #: step 4: sub-problems tried on the finer lattice, and the robots it put back on target
     finer_attempts: int = 0
     finer_put_back: list[int] = field(default_factory=list)
-    #: step 5: sub-problems tried with robots off target folded
+    #: step 5: sub-problems tried with robots off target folded (in ``to_json`` where any was)
     fold_attempts: int = 0
 
     def to_json(self) -> dict:
@@ -126,7 +126,7 @@ class PartialStats:
         return {"attempts": self.attempts, "nogoods": self.nogoods, "method": self.method,
                 "candidates": list(self.candidates), "seconds": self.seconds,
                 "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back),
-                "fold_attempts": self.fold_attempts}
+                **({"fold_attempts": self.fold_attempts} if self.fold_attempts else {})}
 
 
 @dataclass
