@@ -55,9 +55,26 @@ def test_solve_repairs_a_colliding_start_and_check_accepts_the_plan(tmp_path):
     assert "start configuration collides: positioners 0 and 1" in one_line(code, out, err)
 
 
-def test_a_colliding_start_with_speed_is_refused_before_the_work(tmp_path):
-    line = one_line(*run("solve", write(tmp_path, "fault.json", THREE), "--speed", "30"))
-    assert line.startswith("supcoord: error: --speed: the start collides (robots 0 and 1, 1 pair)")
+def test_a_colliding_start_with_speed_is_repaired_then_timed_and_check_accepts_it(tmp_path):
+    pf, plan = write(tmp_path, "fault.json", THREE), tmp_path / "plan.json"
+    code, out, err = run("solve", pf, "--speed", "12", "--out", plan)
+    assert code == 0, err
+    first = out.splitlines()[0]
+    assert first.startswith("the start collides (1 pair, first robots 0 and 1): repaired first by moving robots ")
+    assert first.endswith(" s of the motion")
+    data = json.loads(plan.read_text())
+    assert data["repair"]["minimum"] is True and data["motion_time_s"] > 0 and len(data["trajectories"]) == 3
+    code, out, err = run("check", pf, plan, "--json")
+    assert code == 0 and json.loads(out)["valid"], out
+    data["trajectories"][2]["theta"].insert(1, [0.001, data["trajectories"][2]["theta"][0][1] + 30.0])
+    code, out, _ = run("check", pf, write(tmp_path, "moved.json", data), "--json")  # robot 2 moves in the repair
+    verdict = json.loads(out)
+    assert not verdict["valid"] and any(p.startswith("trajectories: repair") for p in verdict["problems"]), out
+
+
+def test_a_colliding_start_with_jaeger_is_refused_before_the_work(tmp_path):
+    line = one_line(*run("solve", write(tmp_path, "fault.json", THREE), "--jaeger", tmp_path / "j.json"))
+    assert line.startswith("supcoord: error: --jaeger: the start collides (robots 0 and 1, 1 pair)")
 
 
 def test_keep_holds_robots_at_their_start(tmp_path):

@@ -74,7 +74,7 @@ def _entry(**change):
 
 @pytest.mark.parametrize("value", [
     [_entry(robot=2)], [_entry(robot=-1)], [_entry(robot=True)], [_entry(), _entry()],
-    [_entry(end="folded")], [_entry(reason="x" * 5000)], [_entry(reason=3)],
+    [_entry(end="parked")], [_entry(reason="x" * 5000)], [_entry(reason=3)],
     [_entry(certificate={"members": [5]})], [_entry(certificate={"members": []})],
     [_entry(certificate={"members": [0], "at_start": [1]})], [_entry(certificate=[0, 1])],
     [_entry(extra=1)], [{"reason": "r"}], "robot 1", [_entry()] * 3,

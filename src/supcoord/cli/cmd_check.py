@@ -49,7 +49,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_problem_argument(p)
     p.add_argument("plan", metavar="PLAN.json", nargs="?",
                    help="the plan to check; with --jaeger, the plan the trajectory was exported from (a partial "
-                        "plan's robots off target end at their starts)")
+                        "plan's robots off target end where its off_target says)")
     p.add_argument("--jaeger", metavar="PATHS.json",
                    help="check a trajectory in SDSS-V's jaeger format instead of a plan: the motion linear in time "
                         "between its points, every robot at once, and its joint speeds")
@@ -149,7 +149,7 @@ def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:
     problem = load_problem(args.problem)
     for warning in problem.warnings:
         console.warn(warning)
-    if args.plan is not None:  # the plan's ends: a partial plan's robots off target end at their starts
+    if args.plan is not None:  # the plan's ends: a partial plan's robots off target end where their entries say
         from ..problems.validate_partial import partial_problem
 
         plan = load_plan(args.plan, problem)

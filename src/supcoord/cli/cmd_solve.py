@@ -7,7 +7,8 @@ others named with a reason; exit 0; ``--require-all``: ``infeasible`` instead),
 ``--max-nodes``/``--timeout`` run out — ``unknown`` with the statistics so far (exit 3).
 A missing or malformed problem, or a target that itself collides, exits 2; a start whose
 robots collide with each other is repaired first (:mod:`supcoord.planning.start_repair`,
-PLAN.json ``repair``), which the output says in one line.  ``--keep 3,17`` keeps robots at
+PLAN.json ``repair``; with ``--speed``, timed too: its moves one after another, then the plan's),
+which the output says in one line.  ``--keep 3,17`` keeps robots at
 their start as obstacles (:mod:`supcoord.problems.fixed_robots`).
 ``--figure``: ``.gif`` animates a complete plan, ``.png``/``.pdf``/``.svg``/``.jpg`` draw
 a strip of its frames; an infeasible answer draws the problem with the positioners
@@ -84,6 +85,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--require-all", action="store_true",
                    help="answer complete or infeasible only (default: where no plan puts every robot on its target, "
                         "a partial plan with the most robots on target, the others named with a reason)")
+    p.add_argument("--off-target-end", choices=["start", "folded"], default="start",
+                   help="where a partial plan's robots off target end: start (default), or folded (beta at 180 deg, "
+                        "alpha where it starts) where a plan reaches it")
     p.add_argument("--improve", type=int, metavar="N",
                    help="space-time re-plannings that may shorten the plan (0: off; default: 4 per positioner, "
                         "at least 200); work, not seconds, so the same input gives the same plan anywhere")
@@ -144,20 +148,21 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     if getattr(args, "keep", None) is not None:
         problem = keep_fixed(problem, parse_robot_list(args.keep, problem.n, "--keep"), "--keep")
     colliding = start_collisions(problem)
-    if colliding and (speed is not None or any(jaeger.values())):
+    if colliding and any(jaeger.values()):
         from ..errors import InputError
 
         n_pairs = f"{len(colliding)} pair" + ("s" if len(colliding) > 1 else "")
         raise InputError(f"the start collides (robots {colliding[0][0]} and {colliding[0][1]}, {n_pairs}): "
-                         f"its repair is planned as configurations, without timed trajectories", value=None,
-                         where="--speed" if speed is not None else "--jaeger")
+                         f"jaeger's trajectory of its repair phase is not written (--speed times it)", value=None,
+                         where="--jaeger" if jaeger["--jaeger"] else "--jaeger-reverse")
     if any(jaeger.values()):  # the limits refused before the work
         _check_jaeger_limits(problem, args)
     plan = solve_any_start(problem, route=route_named(args.route, args.order), backend=args.backend, budget=budget,
                  progress=console.progress, speed=speed, improve=improve,
                  simultaneous=None if args.single_move_only else Simultaneous(),
                  finer=None if args.no_refine else FinerLattice(),
-                 when_incomplete="infeasible" if args.require_all else "partial")
+                 when_incomplete="infeasible" if args.require_all else "partial",
+                 off_target_end=getattr(args, "off_target_end", "start"))
     if args.out:
         with as_option("--out"):
             plan.dump(args.out, problem)
@@ -264,8 +269,9 @@ def _repair_line(colliding: list, plan) -> str:
         return text + ": not repaired"
     how = ("the fewest any repair moves" if repair["minimum"]
            else f"at least {repair['lower_bound']} must move")
+    timed = plan.stats.get("repair_motion_s")
     return (text + f": repaired first by moving robots {', '.join(map(str, repair['moved']))} in {repair['steps']} "
-            f"steps ({how})")
+            f"steps ({how})" + (f", the first {timed:.3f} s of the motion" if timed is not None else ""))
 
 
 def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
@@ -287,7 +293,8 @@ def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
                  f"written to {path} ({paths.points} points, {paths.motion_time_s:.3f} s at "
                  f"{paths.speed_deg_s:g} deg/s)")
         if plan.status == "partial":
-            keys = positioner_keys(problem)
-            text += (f"; {len(plan.off_target)} robots off target stay at their starts (positioner IDs "
-                     f"{', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
+            keys, folded = positioner_keys(problem), sum(e.end == "folded" for e in plan.off_target)
+            text += (f"; {len(plan.off_target)} robots off target stay at their starts"
+                     + (f" or fold ({folded} folded)" if folded else "")
+                     + f" (positioner IDs {', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
     return text

@@ -42,6 +42,13 @@ such disjoint groups: no plan has more robots on target.
    more robots on target than the problem's lattice allows, so its answer is not ``optimal``
    and its bound is every robot.
 
+5. **Folded end** (``off_target_end="folded"``): the robots off target are asked to end
+   folded (:func:`~supcoord.problems.off_target.folded_ends`: beta at 180°, alpha where it
+   starts) instead of at their starts, all at once, else one at a time, each kept folded
+   where ``P(O)`` so has a plan; the others end at their starts (rotary robots, which have no
+   joint to fold, always).  The set ``O`` and the guarantees above are those of the search
+   with every robot off target at its start (not run after step 4's finer lattice).
+
 If the budget ends during the search, the best set found so far is the answer (its robots
 named by their certificates, ``optimal`` false); before any set is found, every robot not
 yet decided stays at its start with ``"not proven: budget"``.
@@ -57,7 +64,8 @@ from typing import Callable
 import numpy as np
 
 from ..errors import BudgetExceeded
-from ..problems.off_target import BUDGET_REASON, GroupCertificate, OffTarget, group_reason, partial_end
+from ..problems.off_target import (BUDGET_REASON, ENDS, GroupCertificate, OffTarget, folded_ends, group_reason,
+                                   partial_end)
 from ..problems.plan import Plan, lower_bound
 from ..problems.problem import Problem
 from .graph_order import conflict_components
@@ -110,12 +118,15 @@ class PartialStats:
     #: step 4: sub-problems tried on the finer lattice, and the robots it put back on target
     finer_attempts: int = 0
     finer_put_back: list[int] = field(default_factory=list)
+    #: step 5: sub-problems tried with robots off target folded (in ``to_json`` where any was)
+    fold_attempts: int = 0
 
     def to_json(self) -> dict:
         """The ``stats["partial"]`` object of PLAN.json."""
         return {"attempts": self.attempts, "nogoods": self.nogoods, "method": self.method,
                 "candidates": list(self.candidates), "seconds": self.seconds,
-                "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back)}
+                "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back),
+                **({"fold_attempts": self.fold_attempts} if self.fold_attempts else {})}
 
 
 @dataclass
@@ -132,11 +143,13 @@ class PartialResult:
     stats: PartialStats
 
 
-def reduced_problem(problem: Problem, off: frozenset[int]) -> Problem:
-    """``P(off)``: ``problem`` with each robot of ``off`` ending at its start (the same
-    collision tables and caches, :func:`dataclasses.replace`)."""
-    entries = tuple(OffTarget(r, "", None) for r in sorted(off))
-    return replace(problem, target=partial_end(problem.start, problem.target, entries))
+def reduced_problem(problem: Problem, off: frozenset[int], folded: frozenset[int] = frozenset()) -> Problem:
+    """``P(off)``: ``problem`` with each robot of ``off`` ending at its start, or folded if it
+    is in ``folded`` (:func:`~supcoord.problems.off_target.folded_ends`); the same collision
+    tables and caches (:func:`dataclasses.replace`)."""
+    entries = tuple(OffTarget(r, "", None, "folded" if r in folded else "start") for r in sorted(off))
+    return replace(problem, target=partial_end(problem.start, problem.target, entries,
+                                               folded_ends(problem) if folded else None))
 
 
 class _Search:
@@ -153,6 +166,7 @@ class _Search:
         self.chosen: dict[int, Nogood] = {}  # the nogood each greedy choice broke
         self.best: frozenset[int] | None = None
         self.best_plan: Plan | None = None
+        self.folded: frozenset[int] = frozenset()  # the robots of ``best`` that end folded (step 5)
         self.stats = PartialStats()
 
     def key(self, off: frozenset[int]) -> tuple:
@@ -254,6 +268,25 @@ class _Search:
                 return
             back -= kept
 
+    def fold(self) -> None:
+        """Step 5 of the module docstring: the robots off target folded where ``P(best)`` with
+        them folded has a plan, all at once, else one at a time (robot order)."""
+        assert self.best is not None
+        folded = folded_ends(self.problem)
+        rules = getattr(self.problem, "joint_rules", None) or {}
+        can = sorted(r for r in self.best if r not in rules and np.any(folded[r] != self.problem.start[r]))
+        for more in [can] + ([[r] for r in can] if len(can) > 1 else []):
+            want = self.folded | frozenset(more)
+            reduced = reduced_problem(self.problem, self.best, want)
+            if want == self.folded or reduced.collisions(reduced.target):
+                continue
+            self.stats.fold_attempts += 1
+            found = self.attempt_fn(reduced)
+            if isinstance(found, Plan):
+                self.folded, self.best_plan = want, found
+                if len(more) == len(can):
+                    return
+
     def reason(self, r: int, off: frozenset[int]) -> OffTarget:
         """Why ``r`` is off target in ``off``: a nogood that excludes putting it back, else the
         one it was chosen for, else the budget."""
@@ -277,7 +310,8 @@ class _Search:
 
 
 def partial_search(problem: Problem, members: list[int], how: str, attempt: Attempt,
-                   progress: Callable | None = None, finer: Attempt | None = None) -> PartialResult:
+                   progress: Callable | None = None, finer: Attempt | None = None,
+                   off_target_end: str = "start") -> PartialResult:
     """After a certificate (``members``, ``how``) of ``problem``: the robots to leave off
     target, and a complete plan of the problem with them ending at their starts (module
     docstring: the greedy, exact and minimal steps, and what is guaranteed).
@@ -299,6 +333,9 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
     finer : callable, optional
         ``finer(P)`` → a complete plan of ``P`` on a finer lattice (its ``lattice`` set) or the
         certificate ``(members, how)`` found there (step 4); None: no step 4.
+    off_target_end : str, default "start"
+        Where the robots off target end (one of :data:`~supcoord.problems.off_target.ENDS`):
+        ``"start"``, or ``"folded"`` where a plan reaches it (step 5).
 
     Returns
     -------
@@ -308,6 +345,8 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
 
     Raises
     ------
+    ValueError
+        ``off_target_end`` is not one of :data:`~supcoord.problems.off_target.ENDS`.
     RuntimeError
         A certificate names no robot that can move (a bug of the planner).
 
@@ -327,6 +366,8 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
     >>> [e.robot for e in r.off_target], r.on_target, r.optimal, r.on_target_bound
     ([0], 2, True, 2)
     """
+    if off_target_end not in ENDS:
+        raise ValueError(f"off_target_end must be one of {list(ENDS)}, got {off_target_end!r}")
     t0 = time.perf_counter()
     search = _Search(problem, attempt, progress)
     first = search.add(members, frozenset(), how)
@@ -347,6 +388,11 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
             search.finer(finer)
         except BudgetExceeded:
             pass  # the answer on the problem's own lattice stands
+    if off_target_end == "folded" and not budget_ended and search.best and not search.stats.finer_put_back:
+        try:
+            search.fold()
+        except BudgetExceeded:
+            pass  # the robots folded so far stay folded, the others at their starts
     return _result(search, budget_ended, time.perf_counter() - t0)
 
 
@@ -362,7 +408,7 @@ def _result(search: _Search, budget_ended: bool, seconds: float) -> PartialResul
         off = search.best
         if budget_ended:
             stats.method = "budget"
-    entries = tuple(search.reason(r, off) for r in sorted(off))
+    entries = tuple(replace(search.reason(r, off), end="folded" if r in search.folded else "start") for r in sorted(off))
     uniform = problem.weight is None or len(set(problem.weight)) == 1
     bound = problem.n - search.packing()
     on_target = problem.n - len(off)

@@ -34,7 +34,7 @@ import numpy as np
 from ..bdd.context import Budget
 from ..errors import BudgetExceeded, InputError
 from ..problems.consistency import check_problem
-from ..problems.off_target import partial_summary
+from ..problems.off_target import ENDS, partial_summary
 from ..problems.plan import Plan, event_name, lower_bound, reversed_moves
 from ..problems.problem import Problem
 from ..problems.refine import at_lattice, finer_steps
@@ -295,7 +295,7 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
           backend: str = "auto", progress: Callable | None = None, improve: int | None = None,
           speed: float | None = None, simultaneous: Simultaneous | None = Simultaneous(),
           finer: FinerLattice | None = FinerLattice(), validation: str = "independent",
-          when_incomplete: str = "partial") -> Plan:
+          when_incomplete: str = "partial", off_target_end: str = "start") -> Plan:
     """Solve ``problem``: a ``complete`` plan (validated), else a ``partial`` one (the most
     robots on target, the others named with a reason) or ``infeasible`` with a reason.
 
@@ -335,6 +335,10 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
         :data:`~.partial.WHEN_INCOMPLETE`): ``"partial"`` a plan with the most robots on target
         that the search of :mod:`.partial` finds, each robot off target ending at its start;
         ``"infeasible"`` the verdict and its certificate.
+    off_target_end : str, default "start"
+        Where a partial plan's robots off target end (one of
+        :data:`~supcoord.problems.off_target.ENDS`): ``"start"``, or ``"folded"`` where a plan
+        reaches it (:func:`~supcoord.problems.off_target.folded_ends`; step 5 of :mod:`.partial`).
 
     Returns
     -------
@@ -388,15 +392,19 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
     if when_incomplete not in WHEN_INCOMPLETE:
         raise InputError(f"when_incomplete must be one of {', '.join(WHEN_INCOMPLETE)}, got {when_incomplete!r}",
                          value=when_incomplete, where="when_incomplete")
+    if off_target_end not in ENDS:
+        raise InputError(f"off_target_end must be one of {', '.join(ENDS)}, got {off_target_end!r}",
+                         value=off_target_end, where="off_target_end")
     budget = budget or Budget()
     solved = _solve(problem, settings, budget)
     solved.plan.stats = solved.stats.to_json()
     if solved.certificate is not None and when_incomplete == "partial":
-        return _partial(problem, settings, budget, solved, t0)
+        return _partial(problem, settings, budget, solved, t0, off_target_end)
     return solved.plan
 
 
-def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Solved, t0: float) -> Plan:
+def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Solved, t0: float,
+             off_target_end: str = "start") -> Plan:
     """After the infeasible ``verdict``: the partial plan (:func:`.partial.partial_search`,
     each sub-problem by the route alone, single moves, no improvement), its robots off target
     then planned once more as asked (improvement, speed) and the plan validated whole.  Every
@@ -413,7 +421,7 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
 
     assert verdict.certificate is not None
     found = partial_search(problem, list(verdict.certificate.members), verdict.certificate.how, attempt,
-                           settings.progress, _finer_attempt(problem, verdict, quick, budget))
+                           settings.progress, _finer_attempt(problem, verdict, quick, budget), off_target_end)
     plan, stats = _final_plan(problem, settings, budget, found), dict(verdict.plan.stats)
     stats.update({k: v for k, v in plan.stats.items() if k not in stats})
     stats.update(partial=found.stats.to_json(), seconds=time.perf_counter() - t0)
@@ -463,8 +471,9 @@ def _final_plan(problem: Problem, settings: _Settings, budget: Budget, found: Pa
     """The plan of the robots off target ``found``: planned again with the improvement and speed
     asked for where the search's own plan had neither (its plan if the budget ends first)."""
     off = frozenset(e.robot for e in found.off_target)
+    folded = frozenset(e.robot for e in found.off_target if e.end == "folded")
     lattice = found.plan.lattice  # the finer lattice's plan (step 4 of .partial), else None
-    reduced = reduced_problem(problem if lattice is None else at_lattice(problem, lattice), off)
+    reduced = reduced_problem(problem if lattice is None else at_lattice(problem, lattice), off, folded)
     if found.stats.method != "budget" and (settings.improve != 0 or settings.speed is not None):
         try:
             solved = _solve(reduced, replace(settings, simultaneous=None, finer=None, validation="none"), budget)

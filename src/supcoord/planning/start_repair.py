@@ -42,10 +42,12 @@ from ..geometry.sweep import rotation_clearance
 from ..problems.plan import Move, Plan, event_name, lower_bound
 from ..problems.problem import Problem
 from ..problems.repair_phase import Repair, start_collisions
+from ..problems.trajectory import check_speed, continuous_angles, joint_names, wrapped_angles
 from ..problems.validate import validate_plan
 from . import planner
 
-__all__ = ["EXACT_ROBOTS", "MAX_COVERS", "RepairResult", "RepairNotFound", "repair_start", "solve_any_start"]
+__all__ = ["EXACT_ROBOTS", "MAX_COVERS", "RepairResult", "RepairNotFound", "repair_start", "repair_trajectories",
+           "solve_any_start"]
 
 #: largest component of the colliding-pair graph whose minimum vertex cover is enumerated
 EXACT_ROBOTS = 16
@@ -291,8 +293,8 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     route : Local, Monolithic or str, default "local"
         As for :func:`~.planner.solve`.
     **options
-        :func:`~.planner.solve`'s keyword options; ``speed`` is refused with a colliding
-        start (the repair phase is a plan of configurations, not of trajectories).
+        :func:`~.planner.solve`'s keyword options; with ``speed``, the trajectories of a plan
+        from a colliding start are those of :func:`repair_trajectories`.
 
     Returns
     -------
@@ -305,8 +307,7 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     Raises
     ------
     InputError
-        ``speed`` with a colliding start; held robots colliding with each other; no repair
-        found (:class:`RepairNotFound`); and :func:`~.planner.solve`'s errors.
+        Held robots colliding with each other; no repair found (:class:`RepairNotFound`); and :func:`~.planner.solve`'s errors.
     BudgetExceeded
         The budget ran out while solving the repaired problem.
 
@@ -322,9 +323,6 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     """
     if not start_collisions(problem):
         return planner.solve(problem, route=route, **options)
-    if options.get("speed") is not None:
-        raise InputError("a colliding start is repaired as a plan of configurations: give no speed", value=None,
-                         where="speed")
     t0 = time.perf_counter()
     fixed = repair_start(problem)
     rest = planner.solve(dataclasses.replace(problem, start=fixed.configurations[-1]), route=route, **options)
@@ -342,7 +340,73 @@ def solve_any_start(problem: Problem, route: Any = "local", **options: Any) -> P
     plan = dataclasses.replace(rest, configurations=confs, makespan=len(confs) - 1, events=events, angles_deg=[],
                                lower_bound=int(kin.joint_distance(problem.start, confs[-1]).max()),
                                repair=fixed.repair)
+    if rest.trajectories is not None:  # timed: the repair phase's moves one after another, then the rest's
+        plan.trajectories, plan.motion_time_s, plan.stats["repair_motion_s"] = repair_trajectories(
+            problem, fixed.configurations, rest.trajectories, options["speed"])
     check = validate_plan(problem, plan)
     if not check.valid:
         raise ModelError(f"the plan from the repaired start fails validation: {check.problems[:2]}")
     return plan
+
+
+def repair_trajectories(problem: Problem, repair: list[np.ndarray], rest: list[dict],
+                        speed: float) -> tuple[list[dict], float, float]:
+    """Timed trajectories of a plan from a colliding start: the repair phase's single-joint
+    moves one after another, then the trajectories of the plan from its end.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem (its start may collide).
+    repair : list of numpy.ndarray
+        The repair phase's configurations ``start … c_k`` (``(N, J)`` ints).
+    rest : list of dict
+        The trajectories (``{joint: (K, 2) [t_s, deg]}`` per robot) of the plan from ``c_k``,
+        starting at ``t = 0`` (:func:`~supcoord.problems.trajectory.plan_trajectories`).
+    speed : float
+        Joint speed in degrees per second.
+
+    Returns
+    -------
+    tuple
+        ``(trajectories, motion_time_s, repair_s)``: per robot ``{joint: (K, 2) [t_s, deg]}``
+        (continuous angles), the last time (s) and the repair phase's duration (s), after
+        which ``rest`` runs shifted by it.  Step ``i`` of the repair phase takes its turn's
+        angle over ``speed`` and nothing else moves meanwhile: the repair phase's motion is
+        exactly the configurations' (the rule of :mod:`supcoord.problems.repair_phase`).
+
+    Examples
+    --------
+    >>> from supcoord.problems.repair_phase import parse_problem_any_start
+    >>> p = parse_problem_any_start({"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
+    ...     "kinematics": {"kind": "rotary", "arm": 12.0, "steps": 8},
+    ...     "collision": {"buffer": 1.0}, "start": [0, 4], "target": [4, 0]})
+    >>> plan = solve_any_start(p, speed=45.0)
+    >>> plan.stats["repair_motion_s"], plan.trajectories[0]["theta"][:2].tolist()
+    (1.0, [[0.0, 0.0], [1.0, -45.0]])
+    """
+    speed = check_speed(speed)
+    angles = continuous_angles(problem, repair)
+    n, nj = angles.shape[1], angles.shape[2]
+    points: list[list[list[tuple[float, float]]]] = [[[(0.0, float(angles[0, p, j]))] for j in range(nj)]
+                                                     for p in range(n)]
+    t = 0.0
+    for i in range(len(repair) - 1):
+        turn = angles[i + 1] - angles[i]
+        end = t + float(np.abs(turn).max()) / speed
+        for p in np.nonzero(np.any(turn != 0, axis=1))[0]:
+            for j, pts in enumerate(points[p]):
+                if pts[-1][0] < t:
+                    pts.append((t, float(angles[i, p, j])))
+                pts.append((end, float(angles[i + 1, p, j])))
+        t = end
+    turns = angles[-1] - np.asarray(wrapped_angles(problem, repair[-1:])[0])  # whole turns of wrapping joints
+    out = []
+    for p in range(n):
+        robot = {}
+        for j, name in enumerate(joint_names(problem)):
+            head = points[p][j] + ([(t, points[p][j][-1][1])] if points[p][j][-1][0] < t else [])
+            tail = np.asarray(rest[p][name], dtype=float) + [t, turns[p, j]]
+            robot[name] = np.vstack([np.array(head), tail[tail[:, 0] > t]])
+        out.append(robot)
+    return out, t + max(float(a[-1, 0]) for robot in rest for a in map(np.asarray, robot.values())), t

@@ -26,7 +26,7 @@ same, one path to the targets and one back.  :func:`jaeger_paths` writes a compl
   reverse path the other way round), times strictly increasing.
 
 A ``partial`` plan is exported the same way: each robot off target follows its own path to
-where the plan leaves it (its start, :func:`.off_target.partial_end`), which is its last point
+where the plan leaves it (its start, or folded: :func:`.off_target.partial_end`), which is its last point
 (the first of the reverse path); PLAN.json's ``off_target`` names those robots, and
 ``supcoord check PROBLEM PLAN.json --jaeger PATHS.json`` checks the file against the plan's ends.
 
@@ -49,7 +49,7 @@ from ..errors import InputError
 from ..geometry.layout import _finite_number
 from ..instruments import load_instrument, motion_limits
 from ..outputs import atomic_write_text, check_output
-from .off_target import partial_end
+from .off_target import folded_ends, partial_end
 from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
@@ -186,7 +186,7 @@ def jaeger_paths(problem: Problem, plan: Plan, *, rpm: float | None = None, acce
     timing = plan_timing(on, plan.configurations, speed, angles, _move_time(speed, accel))
     total = timing.motion_time_s
     ends = (problem.angles_deg(problem.start),
-            problem.angles_deg(partial_end(problem.start, problem.target, tuple(plan.off_target))))
+            problem.angles_deg(partial_end(problem.start, problem.target, tuple(plan.off_target), folded_ends(problem))))
     names = [j.name for j in problem.kinematics.joints]
     moves: list[list[tuple[float, float, int]]] = [[] for _ in range(problem.n)]
     for k, p, t0, t1 in zip(timing.step.tolist(), timing.robot.tolist(), timing.start.tolist(), timing.end.tolist()):

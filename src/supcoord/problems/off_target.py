@@ -2,8 +2,8 @@
 
 A ``partial`` plan (``docs/formats.md``, PLAN.json) puts every robot on its target except
 the ones it lists in ``off_target``.  Each entry says where the robot ends (``end``:
-``"start"``, back at its start configuration, which is collision-free) and why it is off
-target:
+``"start"``, back at its start configuration, which is collision-free; or ``"folded"``, its
+arm folded, :func:`folded_ends`) and why it is off target:
 
 - ``"certificate: group [i, j, ...] has no plan with these robots on target"``: the
   robots of the group, with every other robot removed, cannot all reach their targets
@@ -29,10 +29,11 @@ from ..geometry.kinematics import _is_int
 from ..geometry.layout import _short
 
 __all__ = ["OffTarget", "GroupCertificate", "ENDS", "BUDGET_REASON", "MAX_REASON", "group_reason", "partial_summary",
-           "off_target_to_json", "parse_off_target", "partial_end"]
+           "off_target_to_json", "parse_off_target", "partial_end", "folded_ends"]
 
-#: where a robot off target may end: ``"start"`` (its start configuration)
-ENDS = ("start",)
+#: where a robot off target may end: ``"start"`` (its start configuration) or ``"folded"``
+#: (:func:`folded_ends`)
+ENDS = ("start", "folded")
 #: the reason of a robot whose target the budget left undecided
 BUDGET_REASON = "not proven: budget"
 #: longest reason or ``how`` read from a PLAN.json (characters)
@@ -103,7 +104,8 @@ def partial_summary(n: int, on_target: int, entries: tuple[OffTarget, ...], limi
     def why(e: OffTarget) -> str:
         return e.reason[len("certificate: "):] if e.reason.startswith("certificate: ") else e.reason
 
-    listed = "; ".join(f"robot {e.robot} ({why(e)})" for e in entries[:limit])
+    listed = "; ".join(f"robot {e.robot} ({why(e)}{'; ends folded' if e.end == 'folded' else ''})"
+                       for e in entries[:limit])
     more = f"; and {len(entries) - limit} more" if len(entries) > limit else ""
     return f"{on_target} of {n} robots reach their targets; off target: {listed}{more}"
 
@@ -113,9 +115,11 @@ def off_target_to_json(entries: tuple[OffTarget, ...]) -> list[dict]:
     return [e.to_json() for e in entries]
 
 
-def partial_end(start: np.ndarray, target: np.ndarray, entries: tuple[OffTarget, ...]) -> np.ndarray:
+def partial_end(start: np.ndarray, target: np.ndarray, entries: tuple[OffTarget, ...],
+                folded: np.ndarray | None = None) -> np.ndarray:
     """The configuration a partial plan ends at: ``target`` with each listed robot at its
-    end (its row of ``start``), a new ``(N, J)`` array.
+    end (its row of ``start``, or of ``folded`` where its ``end`` is ``"folded"``), a new
+    ``(N, J)`` array.
 
     Examples
     --------
@@ -124,8 +128,36 @@ def partial_end(start: np.ndarray, target: np.ndarray, entries: tuple[OffTarget,
     """
     end = np.array(target, copy=True)
     for e in entries:
-        end[e.robot] = start[e.robot]
+        if e.end == "folded" and folded is None:
+            raise ValueError(f"robot {e.robot} ends folded: partial_end needs the folded configuration")
+        end[e.robot] = (folded if e.end == "folded" else start)[e.robot]
     return end
+
+
+def folded_ends(problem: Any) -> np.ndarray:
+    """Each robot's folded configuration ``(N, J)``: an alpha-beta robot with its alpha joint
+    where it starts and its beta joint at the lattice position nearest 180° (the arm folded
+    onto itself, its shortest reach; SDSS-V parks at β = 170°, kaiju's folded lattice); a
+    rotary robot, which has no joint to fold, at its start.
+
+    Examples
+    --------
+    >>> from supcoord.problems.problem import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [40, 0]]},
+    ...     "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 8, "beta_steps": 5},
+    ...     "collision": {"buffer": 1.0}, "start": [[1, 0], [2, 2]], "target": [[0, 0], [0, 0]]})
+    >>> folded_ends(p).tolist(), float(p.kin(0).joint_angles_deg(folded_ends(p)[0])[1])
+    ([[1, 4], [2, 4]], 180.0)
+    """
+    out = np.array(problem.start, copy=True)
+    for p in range(problem.n):
+        kin = problem.kin(p)
+        if kin.kind != "alpha-beta":
+            continue
+        q = np.tile(out[p], (kin.joints[1].steps, 1))
+        q[:, 1] = np.arange(kin.joints[1].steps)
+        out[p, 1] = int(np.argmin(np.abs(kin.joint_angles_deg(q)[:, 1] - 180.0)))
+    return out
 
 
 def _fail(message: str, value: Any, where: str | None) -> FormatError:

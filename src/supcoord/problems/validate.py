@@ -36,7 +36,7 @@ of more than :data:`~.validate_motion.MAX_TURNS` turns is reported and not check
 A plan from a colliding start carries ``repair`` (:mod:`.repair_phase`): its first
 ``repair.steps`` steps are checked by the repair rule (:mod:`.validate_repair`: only robots of
 colliding pairs move, a colliding pair never comes closer, no new collision, collision-free at
-the end), the rest as a plan from the repair phase's last configuration.
+the end), the rest as a plan from the repair phase's last configuration (trajectories: once they reach it).
 
 *Collides* is ``dist < r_a + r_b`` (touching at exactly the sum is free), the definition
 the collision tables use; an overlap of less than :data:`TIE` (1e-9 mm) is taken for the
@@ -95,7 +95,7 @@ from .plan import Plan
 from .problem import Problem
 from .refine import at_lattice
 from .validate_partial import at_whole_target, partial_problem
-from .validate_repair import check_repair_phase
+from .validate_repair import check_repair_phase, check_timed_repair, repair_end, trajectories_from
 from .validation_result import Incident, ValidationResult
 from .validate_motion import MAX_OPEN, TIE, TOLERANCE, MotionCheck, MotionChecker, segment_distance_ericson
 
@@ -270,9 +270,8 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
     confs = [np.asarray(c, dtype=np.int64) for c in plan.configurations]
     k, kin = plan.repair.steps, problem.kinematics
     steps, wraps = np.array([j.steps for j in kin.joints]), np.array([j.wraps for j in kin.joints])
-    if plan.trajectories is not None or k >= len(confs):
-        problems.append("a plan with a repair phase needs configurations beyond its repair.steps and no trajectories "
-                        f"({len(confs)} configurations, repair.steps {k})")
+    if k >= len(confs):
+        problems.append(f"repair.steps is {k}: no configuration after the repair phase ({len(confs)} in all)")
         return _result(False, 0, 0, problems, max(0, len(confs) - 1), None)
     out = [j for j, c in enumerate(confs) if np.any((c < 0) | (c >= steps))]
     if out or not np.array_equal(confs[0], problem.start):
@@ -290,9 +289,19 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
             return a0, np.zeros_like(a0)
         return a0, problem.angles_deg(confs[j] + _step_delta(confs[j], confs[j + 1], steps, wraps, j, problems)) - a0
 
-    fixed = check_repair_phase(problem, _bases(problem, problems), plan.repair.moved, k + 1, step, resolution, problems)
+    bases = _bases(problem, problems)
+    fixed = check_repair_phase(problem, bases, plan.repair.moved, k + 1, step, resolution, problems)
+    tail_trajs, trajs = plan.trajectories, _trajectory_arrays(plan.trajectories, [j.name for j in kin.joints], problem.n)
+    if trajs is not None:  # timed: the repair rule until they reach configurations[k], then as any plan from there
+        (times, poses), own = trajectory_poses(trajs), []
+        b = repair_end(poses, problem.angles_deg(confs[k]), _wrapping(problem), ANGLE_TOL, own)
+        _check_angle_poses(replace(problem, target=confs[k]), poses[:b + 1], "repair", own)
+        _check_held_and_rules(problem, lambda p: poses[:b + 1, p], "repair", own)
+        fixed = fixed.plus(check_timed_repair(problem, bases, plan.repair.moved, poses[:b + 1], resolution, own))
+        problems += ["trajectories: " + p for p in own]
+        tail_trajs = trajectories_from(trajs, float(times[b]))
     tail = replace(plan, configurations=confs[k:], makespan=len(confs) - 1 - k, lower_bound=None, events=[],
-                   stats={}, angles_deg=list(plan.angles_deg[k:]), trajectories=None, motion_time_s=None, repair=None)
+                   stats={}, angles_deg=list(plan.angles_deg[k:]), trajectories=tail_trajs, repair=None)
     rest = validate_plan(dataclasses.replace(problem, start=confs[k]), tail, resolution)
     problems += [f"after the repair phase (step {k} on): {p}" for p in rest.problems]
     if plan.events:
@@ -301,8 +310,9 @@ def _validate_repaired(problem: Problem, plan: Plan, resolution: float) -> Valid
         problems.append(f"makespan is {plan.makespan} but the plan has {len(confs) - 1} steps")
     clearance = min(fixed.clearance, rest.min_clearance if rest.min_clearance is not None else math.inf)
     incidents = [dataclasses.replace(i, step=i.step + k) for i in rest.incidents]
-    return _result(not problems, fixed.collisions + rest.collisions, rest.at_target, problems, len(confs) - 1,
-                   clearance, incidents, (fixed.undecided + rest.undecided, max(fixed.depth, rest.undecided_depth)))
+    return replace(_result(not problems, fixed.collisions + rest.collisions, rest.at_target, problems, len(confs) - 1,
+                   clearance, incidents, (fixed.undecided + rest.undecided, max(fixed.depth, rest.undecided_depth))),
+                   motion_time_s=rest.motion_time_s)
 
 
 def _check_arguments(problem: Any, plan: Any, resolution: Any) -> None:

@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .off_target import OffTarget, partial_end
+from .off_target import OffTarget, folded_ends, partial_end
 from .plan import Plan
 from .problem import Problem
 
@@ -17,7 +17,8 @@ __all__ = ["partial_problem", "at_whole_target"]
 
 def partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Problem:
     """The problem a ``partial`` plan solves completely: ``problem`` with each robot listed in
-    ``off_target`` ending at its start (:func:`~.off_target.partial_end`); a list that names
+    ``off_target`` ending at its start, or folded where its entry says (:func:`~.off_target.partial_end`,
+    :func:`~.off_target.folded_ends`); a list that names
     no robot, or one robot twice, is a problem of the plan."""
     entries = plan.off_target
     robots = [e.robot for e in entries if isinstance(e, OffTarget)]
@@ -26,7 +27,7 @@ def partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Proble
         problems.append(f"a partial plan must list each robot off target once, by index in [0, {problem.n}), "
                         f"got {len(entries)} entries")
         return problem
-    return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries)))
+    return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries), folded_ends(problem)))
 
 
 def at_whole_target(whole: Problem, ends: Problem, confs: list[np.ndarray], at_ends: int) -> int:

@@ -14,6 +14,12 @@ distance), each step sampled and bisected with the pair's Lipschitz bound as for
 (:func:`~.validate_motion.step_distances`), here against a threshold per pair: its
 distance at the step's beginning where it collides there.  None of the planner's geometry
 is used.
+
+Timed trajectories of such a plan (``solve --speed``) obey the same rule: their poses at
+the union of their breakpoint times, up to the first at which they reach ``c_k``
+(:func:`repair_end`), are a repair phase (:func:`check_timed_repair`; between breakpoints
+every joint turns linearly in time, hence in angle), and from that time on
+(:func:`trajectories_from`) they are the trajectories of the plan from ``c_k``.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ import numpy as np
 
 from .validate_motion import TIE, TOLERANCE, Bodies, MotionCheck, pieces_distances
 
-__all__ = ["check_repair_phase", "CLOSER_TOLERANCE"]
+__all__ = ["check_repair_phase", "check_timed_repair", "repair_end", "trajectories_from", "CLOSER_TOLERANCE"]
 
 #: how much closer (mm) a colliding pair may come on a repair step: the bisection's own depth
 CLOSER_TOLERANCE = TOLERANCE
@@ -118,3 +124,36 @@ def _step_distances(bodies: Bodies, a0: np.ndarray, turn: np.ndarray, ia: np.nda
     pairs left open and the deepest collision they could hide (:func:`~.validate_motion.pieces_distances`)."""
     dmin, _, unsure, deep = pieces_distances(bodies, a0[None], turn[None], ia, ib, need, resolution)
     return dmin[0], int(unsure[0]), float(deep[0])
+
+
+def check_timed_repair(problem, bases: np.ndarray, moved: tuple[int, ...], poses: np.ndarray, resolution: float,
+                       problems: list[str]) -> MotionCheck:
+    """:func:`check_repair_phase` of the trajectories' poses ``(U, N, J)`` (degrees, continuous
+    angles) up to the repair phase's end, each step their literal difference."""
+    def step(j: int) -> tuple[np.ndarray, np.ndarray]:
+        return poses[j], (poses[j + 1] - poses[j] if j + 1 < len(poses) else np.zeros_like(poses[j]))
+    return check_repair_phase(problem, bases, moved, len(poses), step, resolution, problems)
+
+
+def repair_end(poses: np.ndarray, end_deg: np.ndarray, wraps: np.ndarray, tol: float, problems: list[str]) -> int:
+    """The first of the trajectories' poses ``(U, N, J)`` within ``tol`` degrees of the repair
+    phase's last configuration ``end_deg`` ``(N, J)`` (modulo 360 where ``wraps``); the last
+    pose, and a problem, when none is.
+
+    >>> repair_end(np.array([[[0.0]], [[90.0]], [[450.0]]]), np.array([[90.0]]), np.array([[True]]), 1e-6, [])
+    1
+    """
+    d = poses - end_deg
+    d = np.where(wraps, np.mod(d + 180.0, 360.0) - 180.0, d)
+    reached = np.nonzero(np.all(np.abs(d) <= tol, axis=(1, 2)))[0]
+    if len(reached):
+        return int(reached[0])
+    problems.append("the trajectories never reach the repair phase's last configuration (configurations[repair.steps])")
+    return len(poses) - 1
+
+
+def trajectories_from(trajs: list[dict[str, np.ndarray]], t: float) -> list[dict[str, np.ndarray]]:
+    """Each joint's trajectory ``(K, 2) [t_s, deg]`` from time ``t`` (s) on: its angle at ``t``
+    (held before its first breakpoint and after its last), then its later breakpoints."""
+    return [{name: np.vstack([[t, np.interp(t, a[:, 0], a[:, 1])], a[a[:, 0] > t]]) for name, a in robot.items()}
+            for robot in trajs]
