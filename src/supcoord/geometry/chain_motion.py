@@ -116,6 +116,20 @@ def segment_distance_floats(ax: float, ay: float, bx: float, by: float,
     of the least (a correctly rounded square root is monotonic: the same number as the least
     of four roots).
 
+    Parameters
+    ----------
+    ax, ay, bx, by : float
+        End points of the first segment (mm).
+    cx, cy, dx, dy : float
+        End points of the second segment (mm).
+
+    Returns
+    -------
+    float
+        The least distance between the two segments (mm), 0 where they cross.
+
+    Examples
+    --------
     >>> segment_distance_floats(0.0, 0.0, 2.0, 0.0, 1.0, 1.0, 1.0, 3.0)
     1.0
     >>> segment_distance_floats(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0)   # crossing
