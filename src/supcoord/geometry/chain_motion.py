@@ -109,26 +109,55 @@ def segment_distance_floats(ax: float, ay: float, bx: float, by: float,
                             cx: float, cy: float, dx: float, dy: float) -> float:
     """Distance between segments ``[(ax, ay), (bx, by)]`` and ``[(cx, cy), (dx, dy)]``: the
     formula of :func:`.segments.segment_distance` (0 if they cross, else the least of the
-    four end-point-to-segment distances) on floats."""
+    four end-point-to-segment distances) on floats.
+
+    The four point–segment distances are written out (no calls: this is the innermost
+    function of every simultaneous-motion check) and compared squared, with one square root
+    of the least (a correctly rounded square root is monotonic: the same number as the least
+    of four roots).
+
+    Parameters
+    ----------
+    ax, ay, bx, by : float
+        End points of the first segment (mm).
+    cx, cy, dx, dy : float
+        End points of the second segment (mm).
+
+    Returns
+    -------
+    float
+        The least distance between the two segments (mm), 0 where they cross.
+
+    Examples
+    --------
+    >>> segment_distance_floats(0.0, 0.0, 2.0, 0.0, 1.0, 1.0, 1.0, 3.0)
+    1.0
+    >>> segment_distance_floats(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0)   # crossing
+    0.0
+    """
     ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
-    o1 = ux * (cy - ay) - uy * (cx - ax)
-    o2 = ux * (dy - ay) - uy * (dx - ax)
-    o3 = vx * (ay - cy) - vy * (ax - cx)
-    o4 = vx * (by - cy) - vy * (bx - cx)
-    if o1 * o2 < 0 and o3 * o4 < 0:
+    cax, cay, dax, day = cx - ax, cy - ay, dx - ax, dy - ay  # c, d from a
+    acx, acy, bcx, bcy = ax - cx, ay - cy, bx - cx, by - cy  # a, b from c
+    if (ux * cay - uy * cax) * (ux * day - uy * dax) < 0 and (vx * acy - vy * acx) * (vx * bcy - vy * bcx) < 0:
         return 0.0
-    return min(_psd(ax, ay, cx, cy, vx, vy), _psd(bx, by, cx, cy, vx, vy),
-               _psd(cx, cy, ax, ay, ux, uy), _psd(dx, dy, ax, ay, ux, uy))
-
-
-def _psd(px: float, py: float, ax: float, ay: float, ux: float, uy: float) -> float:
-    """Distance from ``p`` to the segment from ``a`` along ``u`` (``t`` clamped to [0, 1])."""
-    wx, wy = px - ax, py - ay
-    den = ux * ux + uy * uy
-    t = (wx * ux + wy * uy) / den if den > 0 else 0.0
+    den = vx * vx + vy * vy  # a and b from the segment [c, d]
+    t = (acx * vx + acy * vy) / den if den > 0 else 0.0
     t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
-    ex, ey = wx - t * ux, wy - t * uy
-    return sqrt(ex * ex + ey * ey)
+    ex, ey = acx - t * vx, acy - t * vy
+    least = ex * ex + ey * ey
+    t = (bcx * vx + bcy * vy) / den if den > 0 else 0.0
+    t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
+    ex, ey = bcx - t * vx, bcy - t * vy
+    least = min(least, ex * ex + ey * ey)
+    den = ux * ux + uy * uy  # c and d from the segment [a, b]
+    t = (cax * ux + cay * uy) / den if den > 0 else 0.0
+    t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
+    ex, ey = cax - t * ux, cay - t * uy
+    least = min(least, ex * ex + ey * ey)
+    t = (dax * ux + day * uy) / den if den > 0 else 0.0
+    t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
+    ex, ey = dax - t * ux, day - t * uy
+    return sqrt(min(least, ex * ex + ey * ey))
 
 
 def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Sequence[int], da: Sequence[int],
@@ -139,8 +168,8 @@ def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Seq
     closer than ``bsum``?  The certificate of the module docstring."""
     if not tol > 0:
         raise InputError(f"tol must be positive, got {tol!r}", value=tol)
-    qa, da, qb, db = (tuple(int(v) for v in x) for x in (qa, da, qb, db))
-    if any(abs(v) > 1 for v in da + db):
+    qa, da, qb, db = tuple(map(int, qa)), tuple(map(int, da)), tuple(map(int, qb)), tuple(map(int, db))
+    if max(map(abs, da + db), default=0) > 1:
         raise InputError(f"a single motion turns each joint by at most one position, got {da} and {db}",
                          value=[da, db])
     a0, b0 = geo_a.angles(qa)

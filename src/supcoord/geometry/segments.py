@@ -81,13 +81,31 @@ def segment_distance_xy(ax: Any, ay: Any, bx: Any, by: Any, cx: Any, cy: Any, dx
 
 
 def _segment_distance_xy(ax, ay, bx, by, cx, cy, dx, dy):
-    """:func:`segment_distance_xy` in one pass (the module docstring's formula)."""
-    d = np.minimum(np.minimum(_psd(ax, ay, cx, cy, dx, dy), _psd(bx, by, cx, cy, dx, dy)),
-                   np.minimum(_psd(cx, cy, ax, ay, bx, by), _psd(dx, dy, ax, ay, bx, by)))
+    """:func:`segment_distance_xy` in one pass (the module docstring's formula).
+
+    Each difference is formed once and serves both the point–segment distances and the
+    crossing test, and the square root is taken once, of the least squared distance (a
+    correctly rounded square root is monotonic, so ``sqrt(min(·))`` is ``min(sqrt(·))``):
+    the numbers of the four :func:`_psd` calls, bit for bit, with about a third fewer
+    array operations."""
     ux, uy, vx, vy = bx - ax, by - ay, dx - cx, dy - cy
-    o1 = ux * (cy - ay) - uy * (cx - ax)  # side of q0 w.r.t. line p
-    o2 = ux * (dy - ay) - uy * (dx - ax)  # side of q1
-    o3 = vx * (ay - cy) - vy * (ax - cx)  # side of p0 w.r.t. line q
-    o4 = vx * (by - cy) - vy * (bx - cx)  # side of p1
+    den_u, den_v = ux * ux + uy * uy, vx * vx + vy * vy
+    den_u, den_v = np.where(den_u > 0, den_u, 1.0), np.where(den_v > 0, den_v, 1.0)
+    cax, cay, dax, day = cx - ax, cy - ay, dx - ax, dy - ay  # c, d from a
+    acx, acy, bcx, bcy = ax - cx, ay - cy, bx - cx, by - cy  # a, b from c
+    d2 = np.minimum(np.minimum(_psd2(acx, acy, vx, vy, den_v), _psd2(bcx, bcy, vx, vy, den_v)),
+                    np.minimum(_psd2(cax, cay, ux, uy, den_u), _psd2(dax, day, ux, uy, den_u)))
+    o1 = ux * cay - uy * cax  # side of q0 w.r.t. line p
+    o2 = ux * day - uy * dax  # side of q1
+    o3 = vx * acy - vy * acx  # side of p0 w.r.t. line q
+    o4 = vx * bcy - vy * bcx  # side of p1
     crossing = (o1 * o2 < 0) & (o3 * o4 < 0)
-    return np.where(crossing, 0.0, d)
+    return np.where(crossing, 0.0, np.sqrt(d2))
+
+
+def _psd2(wx, wy, ux, uy, den):
+    """Squared :func:`_psd` of the point at ``w`` from a segment's start, the segment along
+    ``u``, ``den`` = ``|u|²`` (1 where that is 0)."""
+    t = np.minimum(np.maximum((wx * ux + wy * uy) / den, 0.0), 1.0)
+    ex, ey = wx - t * ux, wy - t * uy
+    return ex * ex + ey * ey
