@@ -1,0 +1,68 @@
+"""The exact window over a whole small conflict component (``_Windows.whole``), watched
+through the observer's ``whole_component`` hook and checked against the explicit oracle.
+
+The local route solves a conflict component of few configurations by one exact search
+before its descent; whatever that window returns, the later stages would still reach the
+target, so only the window's own outcome shows a wrong verdict, a missing move list or a
+certificate that does not name the component (mutants of ``whole`` that the route's final
+plan hides)."""
+
+import numpy as np
+import pytest
+
+from supcoord.planning.graph_order import conflict_components
+from supcoord.planning.model import CoordinationModel
+from supcoord.planning.windows import (
+    SMALL_COMPONENT,
+    Certificate,
+    Local,
+    WindowObserver,
+    WindowOutcome,
+    solve_local,
+)
+from supcoord.problems import random_problem
+from supcoord.problems.plan import apply_moves
+from supcoord.testing.oracle import oracle_solve
+
+ROT = {"kind": "rotary", "arm": 15.0, "steps": 12}
+# tight layouts (as tests/planning/test_planner.py): every robot conflicts with the others,
+# so the whole problem is one conflict component of 12**n <= SMALL_COMPONENT configurations
+LAYOUTS = {"rot2": [[0, 0], [20, 0]], "rot3": [[0, 0], [18, 0], [9, 15]]}
+HOW = "exhaustive symbolic search of their conflict component"
+
+
+class _Record(WindowObserver):
+    def __init__(self):
+        self.wholes: list[WindowOutcome] = []
+
+    def whole_component(self, outcome: WindowOutcome) -> None:
+        self.wholes.append(outcome)
+
+
+def _cases():
+    return [(name, seed) for name in LAYOUTS for seed in range(5)]
+
+
+@pytest.mark.parametrize("name,seed", _cases())
+def test_whole_component_window_agrees_with_the_oracle(name, seed):
+    p = random_problem(np.array(LAYOUTS[name], float), ROT, 2.0, seed=seed)
+    everyone = list(range(p.n))
+    assert conflict_components(p) == [everyone] and 12 ** p.n <= SMALL_COMPONENT
+    distance = oracle_solve(p.to_json())  # the shortest single-move plan's length (None: no plan)
+    rec = _Record()
+    res = solve_local(p, CoordinationModel(p), Local(observer=rec))
+    (out,) = rec.wholes  # one exact window, over the whole component, from the start
+    if distance is None:
+        assert out == WindowOutcome("infeasible", members=everyone, how=HOW)
+        assert res.moves is None and res.certificate == Certificate(everyone, HOW)
+        return
+    assert out.kind == "solved" and out.members == everyone and out.how == "" and out.region == []
+    assert len(out.moves) == distance  # a shortest plan
+    assert np.array_equal(apply_moves(p, out.moves)[-1], p.target)
+    assert res.certificate is None and res.moves == out.moves  # at target: nothing left to do
+
+
+def test_the_cases_have_both_verdicts():
+    verdicts = {oracle_solve(random_problem(np.array(LAYOUTS[n], float), ROT, 2.0, seed=s).to_json()) is None
+                for n, s in _cases()}
+    assert verdicts == {True, False}
