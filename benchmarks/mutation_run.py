@@ -23,8 +23,11 @@ Needs ``pip install mutmut`` (not a dependency of supcoord).
 from __future__ import annotations
 
 import argparse
+import json
+import math
 import os
 import platform
+import random
 import shutil
 import subprocess
 import sys
@@ -39,6 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "mutation_score.md"
 SURVIVORS = ROOT / "benchmarks" / "results" / "mutation_survivors.toml"
 WORK = Path(tempfile.gettempdir()) / "supcoord-mutation"
+NO_MUTANT = "supcoord.no-such-mutant"  # a name no mutant has: mutmut generates the mutants and collects its statistics
 
 
 @dataclass(frozen=True)
@@ -51,7 +55,8 @@ class Target:
 
 TARGETS = [
     Target("store", "study store", ("study/store.py", "study/resume.py", "study/execute.py"),
-           ("tests/study/test_study_resume.py", "tests/study/test_study_store_rows.py", "tests/study/test_study_spec.py")),
+           ("tests/study/test_study_resume.py", "tests/study/test_study_store_rows.py", "tests/study/test_study_spec.py",
+            "tests/study/test_study_store_mutants.py")),
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/problems/test_timing_buffers.py", "tests/geometry/test_sweeps_apart.py")),
     Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",),
@@ -63,7 +68,7 @@ TARGETS = [
            ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_forcibility_bfa.py", "tests/synthesis/test_witness.py",
             "tests/synthesis/test_witness_env_choice.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
-           ("tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
+           ("tests/des/test_gen_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
             "tests/des/test_gen_compat_export.py", "tests/des/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
@@ -75,15 +80,17 @@ TARGETS = [
             "-k", "not lazy_entries and not release_free_heap and not tables_survive_eviction and not batch_swept"
                   " and not swept_entries_and_lines and not different_robots_agree")),
     Target("validator", "validator", ("problems/validate.py", "problems/validate_motion.py"),
-           ("tests/problems/test_validate.py", "tests/problems/test_validate_messages.py")),  # (test_safety: see the notes)
+           ("tests/problems/test_validate.py", "tests/problems/test_validate_messages.py",
+            "tests/problems/test_validate_mutants.py")),  # (test_safety: see the notes)
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
            ("tests/planning/test_planner.py", "tests/planning/test_descent_properties.py",
+            "tests/planning/test_windows_mutants.py",
             # the fast solves of test_planner.py, the small components' windows against the oracle
             # (its grids and the oracle sweeps of
             # test_planner_oracle.py and test_descent_merged.py take minutes a mutant)
             "-k", "descent_steps_are_serialisable or tight_layouts_have_both_verdicts or alpha_beta_grid_plan_is_valid"
                   " or blockers_of_a_relaxed_path or conflict_components_split or symbolic_verdict_and_rank_equal_the_oracle"
-                  " or test_descent_properties")),
+                  " or test_descent_properties or test_windows_mutants")),
 ]
 BY_NAME = {t.name: t for t in TARGETS}
 
@@ -108,8 +115,6 @@ def _prepare(t: Target, work: Path) -> Path:
 
 def _verdicts(d: Path) -> dict[Path, dict]:
     """mutmut's kept results of a run folder: ``*.meta`` file -> its JSON."""
-    import json
-
     return {m: json.loads(m.read_text()) for m in (d / "mutants").rglob("*.meta")} if (d / "mutants").is_dir() else {}
 
 
@@ -117,8 +122,6 @@ def _restore(before: dict[Path, dict]) -> None:
     """Put back the verdicts a new run of some mutants forgot (mutmut regenerates the
     mutants of a fresh copy of ``src/`` and clears the others' results): a mutant whose
     function is unchanged (same hash) and that this run did not decide keeps its verdict."""
-    import json
-
     for path, old in before.items():
         if not path.exists():
             continue
@@ -157,6 +160,29 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
     (d / "run.json").write_text(f'{{"seconds": {seconds:.0f}, "exit": "{code}", '
                                 f'"finished": "{time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}"}}\n')
     return {"seconds": seconds, "exit": code}
+
+
+def sample(t: Target, work: Path, children: int, limit: float, size: int, seed: int) -> dict:
+    """Check a uniform random sample of ``size`` of ``t``'s mutants (``random.Random(seed)``
+    over their sorted names): the sampled mutants a run decided before keep their verdict,
+    the others are run.  The sample is kept in ``sample.json`` for :func:`report`."""
+    st = statuses(t, work)
+    if st is None:  # generate the mutants and collect the tests' statistics, run none
+        run(t, work, children, limit, [f"{NO_MUTANT}"])
+        st = statuses(t, work) or {}
+    names = sorted(random.Random(seed).sample(sorted(st), min(size, len(st))))
+    (work / t.name / "sample.json").write_text(json.dumps({"seed": seed, "size": len(names), "names": names}) + "\n")
+    todo = [n for n in names if st[n] == "not checked"]
+    return run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
+
+
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """Wilson score interval of a proportion ``k / n`` (95 % for ``z = 1.96``)."""
+    if n == 0:
+        return 0.0, 1.0
+    p, zz = k / n, z * z
+    centre, half = (p + zz / (2 * n)) / (1 + zz / n), z * math.sqrt(p * (1 - p) / n + zz / (4 * n * n)) / (1 + zz / n)
+    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def statuses(t: Target, work: Path) -> dict[str, str] | None:
@@ -326,11 +352,41 @@ def report(work: Path, out: Path) -> None:
                            + ", ".join(f"`{f}` ({c})" for f, c in sorted(funcs.items())) + ".")
             details.append("")
         details += [f"- `{n}` ({st[n]}): {note.get(n, 'not yet examined')}" for n in survivors]
-    text = "\n".join(lines) + "\n\n" + NOTES + "\n".join(details) + "\n"
+    text = "\n".join(lines + _sampled(work, notes)) + "\n\n" + NOTES + "\n".join(details) + "\n"
     tmp = out.with_suffix(".md.tmp")
     tmp.write_text(text)
     os.replace(tmp, out)
     print(text)
+
+
+def _sampled(work: Path, notes: dict[str, dict[str, str]]) -> list[str]:
+    """The table of the modules checked on a uniform random sample (``--sample``): the sample's
+    score and its Wilson 95 % interval, an estimate of the module's score, not the score."""
+    rows = []
+    for t in TARGETS:
+        f = work / t.name / "sample.json"
+        st = statuses(t, work) if f.exists() else None
+        if st is None:
+            continue
+        s = json.loads(f.read_text())
+        got = {n: st.get(n, "not checked") for n in s["names"]}
+        note = _by_name(notes.get(t.name, {}), got)
+        kind = Counter("killed" if v in ("killed", "timeout", "segfault") else
+                       "equivalent" if v in ("survived", "suspicious") and note.get(n, "").startswith("equivalent")
+                       else v for n, v in got.items())
+        killed, survived = kind.get("killed", 0), kind.get("survived", 0) + kind.get("suspicious", 0)
+        lo, hi = wilson(killed, killed + survived)
+        est = f"{100 * killed / (killed + survived):.0f} % [{100 * lo:.0f} %, {100 * hi:.0f} %]" if killed + survived else "–"
+        unchecked = sum(kind.get(k, 0) for k in ("not checked", "check was interrupted by user", "skipped"))
+        rows.append(f"| {t.name} | {s['size']} of {len(st)} (seed {s['seed']}) | {killed} | {survived} | "
+                    f"{kind.get('equivalent', 0)} | {kind.get('no tests', 0)} | {unchecked} | {est} |")
+    if not rows:
+        return []
+    return ["", "**Sampled estimates** (`--sample SIZE --seed SEED`): a uniform random sample of all of a module's "
+                "mutants (verdicts of earlier runs reused, the rest run); the score of the sample with its Wilson "
+                "95 % interval estimates the module's score. It is not the module's full score (the table above).", "",
+            "| module | sample | killed | survived | equivalent | no tests | not checked | sample score [95 % interval] |",
+            "|---|---|---|---|---|---|---|---|", *rows]
 
 
 def _by_name(note: dict[str, str], st: dict[str, str]) -> dict[str, str]:
@@ -344,7 +400,6 @@ def _by_name(note: dict[str, str], st: dict[str, str]) -> dict[str, str]:
 
 
 def _short(meta: str) -> str:
-    import json
 
     try:
         m = json.loads(meta)
@@ -375,6 +430,9 @@ def main() -> int:
     ap.add_argument("--children", type=int, default=2, help="mutants run at once (default 2)")
     ap.add_argument("--limit", type=float, default=1500, help="seconds per module (default 1500)")
     ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--sample", type=int, metavar="SIZE",
+                    help="check a uniform random sample of SIZE of each module's mutants (estimate, see the report)")
+    ap.add_argument("--seed", type=int, default=0, help="the sample's random seed (default 0)")
     args = ap.parse_args()
     unknown = [m for m in args.modules + ([args.show] if args.show else []) if m not in BY_NAME]
     if unknown:
@@ -389,7 +447,10 @@ def main() -> int:
         print(show(t, args.work, sorted(n for n, s in st.items() if s in ("survived", "suspicious"))))
         return 0
     for name in args.modules:
-        r = run(BY_NAME[name], args.work, args.children, args.limit, args.mutants)
+        if args.sample:
+            r = sample(BY_NAME[name], args.work, args.children, args.limit, args.sample, args.seed)
+        else:
+            r = run(BY_NAME[name], args.work, args.children, args.limit, args.mutants)
         print(f"{name}: {r['seconds']:.0f} s, exit {r['exit']}", flush=True)
     if args.report or args.modules:
         report(args.work, args.out)
