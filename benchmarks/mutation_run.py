@@ -11,6 +11,12 @@ a run stays within minutes on two shared cores; hypothesis runs its ``quick`` pr
     python benchmarks/mutation_run.py store timing           # run these modules (niced)
     python benchmarks/mutation_run.py --report               # write results/mutation_score.md from the runs kept
     python benchmarks/mutation_run.py --show store           # the diff of every surviving mutant of a module
+    python benchmarks/mutation_run.py --sample 40 --seed 0 validator   # a uniform random sample of 40 mutants
+
+A module too large to check whole in one sitting is checked on a uniform random sample of
+its mutants (``--sample``, a fixed ``--seed``): verdicts of earlier runs are reused for the
+sampled mutants they decided, the others run, and ``--report`` gives the sample's score with
+its Wilson 95 % interval, labelled as an estimate, besides the module's full counts.
 
 Runs are kept in ``--work`` (default: ``supcoord-mutation`` in the temporary directory),
 one folder per module, so ``--report`` and ``--show`` read them later and a module run
@@ -284,6 +290,19 @@ The *gen-reader* run kept is of an older `gen_parser.py`: `_locate` has changed 
 XML-layout clash now names its `<Transition>` line), so its `_locate` survivors are of the
 old function and wait for a new run (`--mutants 'supcoord.des.io.gen_parser.x__locate*'`).
 The score of a partial run is about the mutants it checked, not the module.
+
+**Survivors killed or classified (2026-11-29).** Each class of survivor got a fast test with
+an independent opinion, added to its module's selection, and those mutants were run again:
+*descent*: `tests/planning/test_windows_mutants.py` (the whole-component window's outcome,
+seen through the observer, against the explicit oracle's verdict and shortest distance; the
+certificate of an infeasible component); `whole`'s mutants that change only the outsiders
+(none in a conflict component), the start (the window runs from it) or how guards are held
+are equivalent. *validator*: `tests/problems/test_validate_mutants.py` (the short way round on
+joints of 2 to 7 positions against enumeration, robots that differ in wrapping, `angles_deg`
+that disagree with the configurations, a bad event's wording). *gen-reader*:
+`tests/des/test_gen_mutants.py` (the lines of a nondeterministic clash at every position,
+both layouts, both readings, every attribute form). *store*:
+`tests/study/test_study_store_mutants.py` (the 30 s lock wait, read back from SQLite).
 """
 
 

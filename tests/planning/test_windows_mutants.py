@@ -34,9 +34,13 @@ HOW = "exhaustive symbolic search of their conflict component"
 class _Record(WindowObserver):
     def __init__(self):
         self.wholes: list[WindowOutcome] = []
+        self.windows: list[WindowOutcome] = []
 
     def whole_component(self, outcome: WindowOutcome) -> None:
         self.wholes.append(outcome)
+
+    def window(self, outcome: WindowOutcome) -> None:
+        self.windows.append(outcome)
 
 
 def _cases():
@@ -66,3 +70,28 @@ def test_the_cases_have_both_verdicts():
     verdicts = {oracle_solve(random_problem(np.array(LAYOUTS[n], float), ROT, 2.0, seed=s).to_json()) is None
                 for n, s in _cases()}
     assert verdicts == {True, False}
+
+
+def _contains(moves, part) -> bool:
+    return any(moves[i:i + len(part)] == part for i in range(len(moves) - len(part) + 1))
+
+
+@pytest.mark.parametrize("name,seed", _cases())
+def test_grown_windows_are_what_the_route_applies(name, seed):
+    """No component solved whole (``small_component=1``): the descent and the grown windows.
+    Every window the observer sees is the one the route acted on: a solved window's moves are
+    in the plan, and an infeasible one is the certificate."""
+    p = random_problem(np.array(LAYOUTS[name], float), ROT, 2.0, seed=seed)
+    distance = oracle_solve(p.to_json())
+    rec = _Record()
+    res = solve_local(p, CoordinationModel(p), Local(observer=rec, small_component=1))
+    assert rec.wholes == [] and all(isinstance(o, WindowOutcome) for o in rec.windows)
+    if distance is None:
+        assert res.moves is None and rec.windows
+        last = rec.windows[-1]
+        assert last.kind == "infeasible" and res.certificate == Certificate(last.members, last.how)
+        return
+    assert np.array_equal(apply_moves(p, res.moves)[-1], p.target)
+    for o in rec.windows:
+        assert o.kind in ("solved", "gave_up")
+        assert o.kind == "gave_up" or (o.moves and _contains(res.moves, o.moves))
