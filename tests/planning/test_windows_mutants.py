@@ -10,6 +10,7 @@ plan hides)."""
 import numpy as np
 import pytest
 
+from supcoord.errors import ModelError
 from supcoord.planning.graph_order import conflict_components
 from supcoord.planning.model import CoordinationModel
 from supcoord.planning.windows import (
@@ -95,3 +96,9 @@ def test_grown_windows_are_what_the_route_applies(name, seed):
     for o in rec.windows:
         assert o.kind in ("solved", "gave_up")
         assert o.kind == "gave_up" or (o.moves and _contains(res.moves, o.moves))
+
+
+def test_capped_last_level_is_refused_naming_the_levels():
+    with pytest.raises(ModelError) as info:
+        Local(levels=(1000, 5000)).check()
+    assert info.value.value == (1000, 5000)
