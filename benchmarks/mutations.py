@@ -206,11 +206,18 @@ def main() -> int:
         for m in chosen:
             print(f"{m.id:36} {m.area:22} {m.path}: {m.what}")
         return 0
-    rows = []
+    rows, caught = [], 0
     for m in chosen:
         r = run(m, args.timeout)
         rows.append((m, r))
         print(f"{m.id:36} {r['status']:10} {r['seconds']:7.1f} s  {r['test']}", flush=True)
+        caught = _write(args, rows, len(chosen))  # after each mutation: an interrupted run keeps its rows
+    print(f"{caught}/{len(rows)} caught; wrote {args.out.resolve()}")
+    return 0 if caught == len(rows) else 1
+
+
+def _write(args: argparse.Namespace, rows: list[tuple[Mutation, dict]], chosen: int) -> int:
+    """Write the results table of ``rows`` (of ``chosen`` mutations to run); the number caught."""
     caught = sum(r["status"].startswith("caught") for _, r in rows)
     lines = ["# Mutation testing", "",
              f"Command: `python benchmarks/mutations.py{' --head' if args.head else ''}"
@@ -220,7 +227,8 @@ def main() -> int:
              f"Machine: {platform.node()} ({platform.machine()}, {os.cpu_count()} CPUs), "
              f"Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}  ",
              f"Code: `{_version()}`", "",
-             f"**{caught} of {len(rows)} mutations caught.**", "",
+             f"**{caught} of {len(rows)} mutations caught.**"
+             + ("" if len(rows) == chosen else f" (run in progress or interrupted: {len(rows)} of {chosen} run)"), "",
              "| mutation | area | what it breaks | caught by | seconds |", "|---|---|---|---|---|"]
     for m, r in rows:
         by = f"`{r['test']}`" if r["status"] == "caught" and r["test"] else r["status"]
@@ -230,8 +238,7 @@ def main() -> int:
     tmp = out.with_suffix(".md.tmp")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, out)
-    print(f"{caught}/{len(rows)} caught; wrote {out}")
-    return 0 if caught == len(rows) else 1
+    return caught
 
 
 def _version() -> str:

@@ -1,0 +1,72 @@
+"""The lines a refused nondeterministic ``.gen`` file names, at every position of the clash.
+
+Two transitions of one state on one event are refused with the line of each; the line of
+the ``k``-th transition is found again by reading the transition relation up to it (attributes
+in between skipped).  The expected lines come from the text itself (where each transition
+was written), for both layouts (``<TransRel>`` triples and XML ``<Transition>`` elements),
+both readings (the default one and the token-by-token one), transitions several to a line
+and every attribute form libFAUDES skips after a transition."""
+
+from __future__ import annotations
+
+import pytest
+
+from supcoord.des.io.gen_file import read_gen
+from supcoord.des.io.gen_parser import parse_text_by_token
+from supcoord.errors import NondeterminismError
+
+# what may follow a transition of <TransRel> (libFAUDES's AttributeVoid skips it)
+ATTRIBUTES = ["", " +Opt+", " 0x0f", " -3", ' <Foreign> 1 "x" </Foreign>']
+
+
+def _native(before: int, between: int, attribute: str, per_line: int) -> tuple[str, int, int]:
+    """A native-layout generator: ``before`` transitions, the first of the clash, ``between``
+    more, the second; ``per_line`` transitions to a line.  The text and the clash's lines."""
+    filler = [f"{2 + i} b {3 + i}" for i in range(before + between)]
+    trans = filler[:before] + ["1 a 2"] + filler[before:] + ["1 a 3"]
+    first_k, second_k = before, len(trans) - 1
+    head = '<Generator> "g"\n<Alphabet> a b </Alphabet>\n'
+    head += "<States> " + " ".join(str(i) for i in range(1, before + between + 4)) + " </States>\n<TransRel>\n"
+    body, line_of = [], {}
+    for k, t in enumerate(trans):
+        if k % per_line == 0:
+            body.append("")
+        line_of[k] = head.count("\n") + len(body)
+        body[-1] += t + (attribute if k % 2 == 0 else "") + " "
+    text = head + "\n".join(body) + "\n</TransRel>\n<InitStates> 1 </InitStates>\n<MarkedStates> </MarkedStates>\n"
+    return text + "</Generator>\n", line_of[first_k], line_of[second_k]
+
+
+def _refused(tmp_path, text: str) -> list[str]:
+    path = tmp_path / "nd.gen"
+    path.write_text(text)
+    messages = []
+    for read in (lambda: read_gen(path), lambda: parse_text_by_token(text, str(path))):
+        with pytest.raises(NondeterminismError) as info:
+            read()
+        messages.append(str(info.value).removeprefix(f"{path}: "))
+    return messages
+
+
+@pytest.mark.parametrize("attribute", ATTRIBUTES)
+@pytest.mark.parametrize("before,between,per_line", [(0, 0, 1), (2, 1, 1), (1, 3, 2), (3, 2, 3)])
+def test_native_clash_names_the_lines_of_both_transitions(tmp_path, attribute, before, between, per_line):
+    text, first, second = _native(before, between, attribute, per_line)
+    want = f"line {second}: state 1 has two transitions on 'a', to 2 (line {first}) and to 3"
+    assert _refused(tmp_path, text) == [want, want]
+
+
+@pytest.mark.parametrize("before,between", [(0, 0), (2, 1), (1, 3)])
+def test_xml_clash_names_the_lines_of_both_transitions(tmp_path, before, between):
+    n = before + between + 3
+    head = ['<Generator name="g">', "<Alphabet>", '<Event name="a"/>', '<Event name="b"/>', "</Alphabet>", "<StateSet>",
+            '<State id="1"><Initial/></State>'] + [f'<State id="{i}"/>' for i in range(2, n + 1)]
+    head += ["</StateSet>", "<TransitionRelation>"]
+    filler = [f'<Transition x1="{2 + i}" event="b" x2="{3 + i}"/>' for i in range(before + between)]
+    trans = filler[:before] + ['<Transition x1="1" event="a" x2="2"/>'] + filler[before:]
+    trans += ['<Transition x1="1" event="a" x2="3"/>']
+    lines = head + trans + ["</TransitionRelation>", "</Generator>"]
+    first = len(head) + before + 1
+    second = len(head) + len(trans)
+    want = f"line {second}: state 1 has two transitions on 'a', to 2 (line {first}) and to 3"
+    assert _refused(tmp_path, "\n".join(lines) + "\n") == [want, want]

@@ -1,0 +1,143 @@
+"""The validator's small helpers against independent opinions: a step the short way round
+on every lattice size (odd, even, two positions), robots that differ in wrapping, angles
+given besides the configurations that disagree with them, and the wording of a bad event.
+
+Each test targets a class of input that ``tests/problems/test_validate.py`` never gives
+(mutants of ``_step_delta``, ``_wrapping``, ``_angles_off``, ``_check_angles_match`` and
+``_check_events`` survived it)."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+
+import numpy as np
+import pytest
+
+from supcoord.geometry.alpha_beta import AlphaBeta
+from supcoord.problems import Plan, parse_problem, plan_from_moves, validate_plan
+from supcoord.problems.validate import ANGLE_TOL, _angles_off, _step_delta, _wrapping
+
+from problem_cases import THREE, oracle_plan_moves
+
+TWO_AB = {
+    "layout": {"kind": "points", "xy": [[0, 0], [60.0, 0]]},
+    "kinematics": {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7,
+                   "beta_range": [0, 180]},
+    "collision": {"buffer": 2.0},
+    "start": [[0, 6], [6, 6]],
+    "target": [[6, 0], [0, 0]],
+}
+
+
+def _short_way_oracle(a: int, b: int, n: int, wraps: bool) -> tuple[int, bool]:
+    """The step ``a -> b`` on a joint of ``n`` positions (by enumeration): the signed number of
+    positions of the shorter way round where the joint wraps (a tie of a half turn: the
+    negative way; two positions: the positive way), the literal difference where it does
+    not; and whether that is a jump of more than one position."""
+    if not wraps:
+        d = b - a
+    else:
+        ways = [d for d in range(-n, n + 1) if (a + d - b) % n == 0]
+        d = min(ways, key=lambda d: (abs(d), d if n != 2 else -d))
+    return d, abs(d) > 1
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 7])
+@pytest.mark.parametrize("wraps", [True, False])
+def test_step_delta_is_the_short_way_round_on_every_lattice_size(n, wraps):
+    pairs = [(a, b) for a in range(n) for b in range(n)]
+    c0 = np.array([[a, 0] for a, _ in pairs])
+    c1 = np.array([[b, 0] for _, b in pairs])
+    steps, wrap = np.array([n, 3]), np.array([wraps, False])
+    problems: list[str] = []
+    delta = _step_delta(c0, c1, steps, wrap, 4, problems)
+    want = [_short_way_oracle(a, b, n, wraps) for a, b in pairs]
+    jumps = [i for i, (_, jump) in enumerate(want) if jump]
+    assert delta[:, 1].tolist() == [0] * len(pairs)
+    assert delta[:, 0].tolist() == [max(-1, min(1, d)) for d, _ in want]  # a jump is clipped to one step
+    if jumps:
+        shown = ", ".join(str(i) for i in jumps[:10]) + (f", ... ({len(jumps)} in all)" if len(jumps) > 10 else "")
+        assert problems == [f"step 4->5: positioners {shown} move a joint by more than one step"]
+    else:
+        assert problems == []
+
+
+def _differing_robots():
+    """Two alpha-beta robots far apart: robot 0's alpha joint wraps, robot 1's has hard stops."""
+    problem = parse_problem(copy.deepcopy(TWO_AB), "two.json")
+    kins = [AlphaBeta(7.4, 15.0, 12, 7, (0.0, 180.0)), AlphaBeta(7.4, 15.0, 12, 7, (0.0, 180.0), alpha_range=(0, 330))]
+    return dataclasses.replace(problem, robot_kinematics=kins, _tables=None, _pairs=None)
+
+
+def test_wrapping_is_each_robots_own():
+    problem = _differing_robots()
+    assert _wrapping(problem).tolist() == [[True, False], [False, False]]
+    shared = parse_problem(copy.deepcopy(TWO_AB), "two.json")
+    assert _wrapping(shared).tolist() == [[True, False], [True, False]]
+
+
+def test_angles_off_by_a_turn_are_the_same_only_where_the_robot_wraps():
+    problem = _differing_robots()
+    want = np.array([[10.0, 20.0], [10.0, 20.0]])
+    turned = want + [[360.0, 0.0], [360.0, 0.0]]
+    assert _angles_off(problem, turned, want).tolist() == [1]
+    assert _angles_off(problem, want + [[0.0, 360.0], [0.0, 0.0]], want).tolist() == [0]  # beta never wraps
+    assert _angles_off(problem, want + [[-360.0, 0], [0, 0]], want).tolist() == []  # 1: no difference
+    # the poses of one robot (rows = the robot): three poses, each a turn off in alpha
+    poses = np.array([[10.0, 20.0], [40.0, 50.0], [70.0, 80.0]])
+    off_a_turn = poses + [360.0, 0.0]
+    assert _angles_off(problem, off_a_turn, poses, rows=0).tolist() == []
+    assert _angles_off(problem, off_a_turn, poses, rows=1).tolist() == [0, 1, 2]
+    # within the tolerance and just beyond it
+    assert _angles_off(problem, poses + [0.5 * ANGLE_TOL, 0.0], poses, rows=1).tolist() == []
+    assert _angles_off(problem, poses + [0.0, 3 * ANGLE_TOL], poses, rows=0).tolist() == [0, 1, 2]
+
+
+@pytest.fixture(scope="module")
+def three():
+    return parse_problem(copy.deepcopy(THREE), "three.json")
+
+
+@pytest.fixture(scope="module")
+def three_plan(three):
+    return plan_from_moves(three, oracle_plan_moves(three))
+
+
+def test_angles_given_besides_the_configurations_must_be_theirs(three, three_plan):
+    confs = three_plan.configurations
+    angles = [three.angles_deg(c) for c in confs]
+    r = validate_plan(three, dataclasses.replace(three_plan, angles_deg=angles))
+    assert r.valid, r.problems
+    turned = [a + 360.0 for a in angles]  # the rotary joint wraps: a turn off is the same angle
+    assert validate_plan(three, dataclasses.replace(three_plan, angles_deg=turned)).valid
+    k = len(confs) // 2
+    wrong = [a.copy() for a in angles]
+    wrong[k][2, 0] += 1.0
+    wrong[k + 1][0, 0] -= 1.0
+    r = validate_plan(three, dataclasses.replace(three_plan, angles_deg=wrong))
+    assert not r.valid
+    # the first pose that differs is reported, once, with its robot
+    assert [p for p in r.problems if p.startswith("angles_deg")] == [
+        f"angles_deg[{k}] are not the angles of configurations[{k}] (positioners 2)"]
+    r = validate_plan(three, dataclasses.replace(three_plan, angles_deg=angles[:-1]))
+    assert f"angles_deg has {len(confs) - 1} poses but configurations has {len(confs)}" in r.problems
+
+
+@pytest.mark.parametrize("case,event,message", [
+    ("three", "v3", "events[{k}] = 'v3' is not a move event of this rotary problem with 3 positioners "
+                    "(vP, wP, P in [0, 2])"),
+    ("ab", "v0", "events[{k}] = 'v0' is not a move event of this alpha-beta problem with 2 positioners "
+                 "(vaP, waP, vbP, wbP, P in [0, 1])"),
+])
+def test_a_bad_event_is_named_with_the_events_of_its_problem(case, event, message, three, three_plan):
+    if case == "three":
+        problem, plan = three, three_plan
+    else:
+        problem = parse_problem(copy.deepcopy(TWO_AB), "two.json")
+        plan = plan_from_moves(problem, oracle_plan_moves(problem))
+    k = len(plan.events) // 2
+    events = plan.events[:k] + [event] + plan.events[k:]
+    r = validate_plan(problem, Plan("complete", plan.configurations, events=events))
+    assert not r.valid
+    assert message.format(k=k) in r.problems
