@@ -50,9 +50,9 @@ def point(size: int, seed: int, limit: int) -> dict:
     t2 = time.process_time()
     row["greedy_cpu"] = round(t2 - t1, 2)
     if found is None:
-        from supcoord.paper.settled import _refined
+        from supcoord.paper.settled import refined_answer
 
-        proj, found = _refined(model, bound, None)
+        proj, found = refined_answer(model, bound, None)
         row.update(refine_cpu=round(time.process_time() - t2, 2), kept=proj.sizes())
         if proj.excluded is not None:
             return dict(row, answer="not forcible", group=[i + 1 for i in proj.excluded],

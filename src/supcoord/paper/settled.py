@@ -54,6 +54,13 @@ a blocked group asks this of some arms alone.
 Between the two, a greedy search on the explicit settled states
 (:mod:`.settled_witness`) looks for a forcing string: one that replay accepts proves
 "forcible" at once and bounds the A*'s distance from above (the A* still proves the rank).
+When it finds none, projection refinement (:mod:`.settled_refine`) over-approximates the
+configurations from which the target is reachable on every closed neighbourhood: one that
+excludes the start's positions proves "not forcible"; otherwise a greedy search on
+configurations that drops every one outside the sets looks for the string, then the
+forward refinement inside them and the search again (:func:`refined_answer`); the A* then
+keeps only the states inside the last sets (the others cannot reach ``T``, so no shortest
+path is lost).
 The witness is then read forward as :func:`~supcoord.synthesis.witness` reads it on
 ``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
@@ -85,7 +92,7 @@ from .settled_graph import SettledGraph, State, check_settled_route, settle, suc
 from .settled_refine import Projections, proj_bdd, refine
 from .settled_witness import GREEDY_LIMIT, GreedyWitness, greedy_witness, position_witness
 
-__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
+__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
 
 
 @dataclass
@@ -211,11 +218,37 @@ def _refined_text(proj: Projections) -> str:
             f"no sequence of moves of the coupled model joins the start to the target")
 
 
-def _refined(model: CoupledModel, bound: PatternBound, ctx: Context | None) -> tuple[Projections, GreedyWitness | None]:
+def refined_answer(model: CoupledModel, bound: PatternBound,
+                   ctx: Context | None = None) -> tuple[Projections, GreedyWitness | None]:
     """The backward refinement of :mod:`.settled_refine`, a certificate if it excludes the
-    start; else a search on configurations pruned by it; else the forward refinement inside
-    it (the configurations on a path from the start to the target) and a search pruned by
-    that.  Returns the last sets and the checked witness found, if any."""
+    start; else a search on configurations pruned by it
+    (:func:`~.settled_witness.position_witness`); else the forward refinement inside it
+    (the configurations on a path from the start to the target) and the search pruned by
+    that.
+
+    Parameters
+    ----------
+    model : CoupledModel
+        The instance (its target with no arm in another's zone).
+    bound : PatternBound
+        The bound ordering the searches.
+    ctx : Context, optional
+        Its budget is checked before each group's recomputation.
+
+    Returns
+    -------
+    tuple of Projections and GreedyWitness or None
+        The last sets (``excluded``: a certificate of "not forcible") and the forcing
+        string found, checked by replay, if any (neither proves anything otherwise).
+
+    Examples
+    --------
+    >>> from supcoord.paper.run import coupled_instance
+    >>> model = CoupledModel(coupled_instance(3, 8, 0))
+    >>> proj, found = refined_answer(model, PatternBound(model))
+    >>> proj.excluded, found.length
+    (None, 8)
+    """
     check = None if ctx is None else (lambda: ctx.check_budget("settled refinement"))
     back = refine(model, forward=False, check=check)
     if back.excluded is not None:
@@ -246,6 +279,10 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     finds one, "forcible" is proved before the A* starts, ``stats["upper_bound"]`` is its
     length (``rank(q0)`` is at most that) and the context's progress callback hears of it
     (stage ``"settled witness"``); the A* then proves the rank and reads the witness.
+    When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
+    (``stats["blocked_group"]``: the group whose set excludes the start or the target,
+    ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
+    A* keeps only states inside them.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
     check_settled_route(model)
@@ -265,7 +302,7 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
             "seconds": round(time.perf_counter() - t0, 4)})
     found, proj = greedy_witness(model, bound, greedy_limit), None
     if found is None:
-        proj, found = _refined(model, bound, ctx)
+        proj, found = refined_answer(model, bound, ctx)
         if proj.excluded is not None:
             return CCCResult(False, [], None, [], {
                 "route": "settled", "relations": 0, "build_seconds": round(time.perf_counter() - t0, 4),
