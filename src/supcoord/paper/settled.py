@@ -281,7 +281,7 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     (stage ``"settled witness"``); the A* then proves the rank and reads the witness.
     When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
     (``stats["blocked_group"]``: the group whose set excludes the start or the target,
-    ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
+    ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
     A* keeps only states inside them.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
@@ -308,7 +308,7 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
                 "route": "settled", "relations": 0, "build_seconds": round(time.perf_counter() - t0, 4),
                 "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None,
                 "max_layer_nodes": 0, "blocked_group": [i + 1 for i in proj.excluded],
-                "certificate": _refined_text(proj), "seconds": round(time.perf_counter() - t0, 4)})
+                "refinement": "forward" if proj.forward else "backward", "certificate": _refined_text(proj), "seconds": round(time.perf_counter() - t0, 4)})
     graph = SettledGraph(model, ctx, order, group_size, bound)
     ctx = graph.ctx
     check = ThrottledCheck(ctx)
