@@ -3,13 +3,11 @@ its replay check against strings that do not force the target."""
 
 from __future__ import annotations
 
-import random
-
 import pytest
+from coupled_cases import random_coupled_models
 
 from supcoord.errors import InputError, ModelError
-from supcoord.paper.coupled import CoupledModel, Geometry
-from supcoord.paper.literal import PaperInstance, hex_neighbours, hex_sites
+from supcoord.paper.coupled import CoupledModel
 from supcoord.paper.run import coupled_instance
 from supcoord.paper.settled import settled_ccc, settled_ccc_naive
 from supcoord.paper.settled_bound import PatternBound
@@ -18,23 +16,7 @@ from supcoord.paper.settled_witness import greedy_witness, replay
 
 
 def _random_models(seed: int, count: int):
-    """Seeded random coupled instances of 2 to 4 positioners whose target has no arm in
-    another's zone (the settled route's condition)."""
-    rng = random.Random(seed)
-    while count:
-        size = rng.choice([2, 3, 3, 4])
-        steps = rng.choice([4, 5, 6])
-        pitch = rng.choice([16.0, 18.0, 20.0, 22.4])
-        start = tuple(rng.randrange(steps) for _ in range(size))
-        target = tuple(rng.randrange(steps) for _ in range(size))
-        priority = list(range(1, size + 1))
-        rng.shuffle(priority)
-        inst = PaperInstance(steps, start, target, tuple(priority), hex_neighbours(hex_sites(size)))
-        model = CoupledModel(inst, Geometry(pitch=pitch))
-        if model.start_collisions or model.target_collisions or target_in_zone(model):
-            continue
-        count -= 1
-        yield model
+    return random_coupled_models(seed, count, (2, 3, 3, 4), (4, 5, 6))
 
 
 @pytest.mark.timeout(120)

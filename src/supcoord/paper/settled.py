@@ -54,6 +54,13 @@ a blocked group asks this of some arms alone.
 Between the two, a greedy search on the explicit settled states
 (:mod:`.settled_witness`) looks for a forcing string: one that replay accepts proves
 "forcible" at once and bounds the A*'s distance from above (the A* still proves the rank).
+When it finds none, projection refinement (:mod:`.settled_refine`) over-approximates the
+configurations from which the target is reachable on every closed neighbourhood: one that
+excludes the start's positions proves "not forcible"; otherwise a greedy search on
+configurations that drops every one outside the sets looks for the string, then the
+forward refinement inside them and the search again (:func:`refined_answer`); the A* then
+keeps only the states inside the last sets (the others cannot reach ``T``, so no shortest
+path is lost).
 The witness is then read forward as :func:`~supcoord.synthesis.witness` reads it on
 ``V`` (the controller forces the event of least successor rank, ties by name; the
 environment fires its smallest event), testing successors against the states on
@@ -82,9 +89,10 @@ from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
 from .settled_graph import SettledGraph, State, check_settled_route, settle, successor_events, target_in_zone
-from .settled_witness import GREEDY_LIMIT, greedy_witness
+from .settled_refine import Projections, proj_bdd, refine
+from .settled_witness import GREEDY_LIMIT, GreedyWitness, greedy_witness, position_witness
 
-__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive"]
+__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
 
 
 @dataclass
@@ -94,11 +102,13 @@ class _Search:
     buckets: int  # (g, h) buckets expanded
 
 
-def _astar(graph: SettledGraph, check: ThrottledCheck, upper: int | None = None) -> _Search:
+def _astar(graph: SettledGraph, check: ThrottledCheck, upper: int | None = None,
+           allowed: BDD | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
     ``upper``: the weight of a known path to ``T`` (a checked witness), or None.
+    ``allowed``: the states kept (None: all); every state outside it must have no path to ``T``.
 
     ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
     state is first expanded at its distance; ``open_[g]`` holds the states generated at
@@ -139,7 +149,7 @@ def _astar(graph: SettledGraph, check: ThrottledCheck, upper: int | None = None)
             reached: dict[int, BDD] = {}
             for move in graph.moves:
                 reached[move.weight] = reached.get(move.weight, false) | graph.post(move, x)
-            fresh = ~closed
+            fresh = ~closed if allowed is None else allowed & ~closed
             for w, y in reached.items():
                 y &= fresh
                 if y != false:
@@ -199,6 +209,59 @@ def _blocked_text(group: list[int]) -> str:
             f"its priority allows); every move of the coupled model is such a move")
 
 
+def _refined_text(proj: Projections) -> str:
+    names = ", ".join(f"P{i + 1}" for i in proj.excluded)
+    what, goal = ("reachable from the start", "the target's") if proj.forward else \
+        ("from which the target can be reached", "the start's")
+    return (f"the positions of {names} {what} (over-approximated by projection refinement over the "
+            f"neighbourhood of every positioner, {proj.rounds} sweeps) exclude {goal}: "
+            f"no sequence of moves of the coupled model joins the start to the target")
+
+
+def refined_answer(model: CoupledModel, bound: PatternBound,
+                   ctx: Context | None = None) -> tuple[Projections, GreedyWitness | None]:
+    """The backward refinement of :mod:`.settled_refine`, a certificate if it excludes the
+    start; else a search on configurations pruned by it
+    (:func:`~.settled_witness.position_witness`); else the forward refinement inside it
+    (the configurations on a path from the start to the target) and the search pruned by
+    that.
+
+    Parameters
+    ----------
+    model : CoupledModel
+        The instance (its target with no arm in another's zone).
+    bound : PatternBound
+        The bound ordering the searches.
+    ctx : Context, optional
+        Its budget is checked before each group's recomputation.
+
+    Returns
+    -------
+    tuple of Projections and GreedyWitness or None
+        The last sets (``excluded``: a certificate of "not forcible") and the forcing
+        string found, checked by replay, if any (neither proves anything otherwise).
+
+    Examples
+    --------
+    >>> from supcoord.paper.run import coupled_instance
+    >>> model = CoupledModel(coupled_instance(3, 8, 0))
+    >>> proj, found = refined_answer(model, PatternBound(model))
+    >>> proj.excluded, found.length
+    (None, 8)
+    """
+    check = None if ctx is None else (lambda: ctx.check_budget("settled refinement"))
+    back = refine(model, forward=False, check=check)
+    if back.excluded is not None:
+        return back, None
+    found = position_witness(model, bound, back.admits)
+    if found is not None:
+        return back, found
+    both = refine(model, forward=True, within=back, check=check)
+    if both.excluded is not None:
+        return both, None
+    return both, position_witness(model, bound, both.admits)
+
+
 def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto",
                 group_size: int = GROUP_SIZE, certificate_size: int = CERTIFICATE_SIZE,
                 greedy_limit: int = GREEDY_LIMIT) -> CCCResult:
@@ -216,6 +279,10 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     finds one, "forcible" is proved before the A* starts, ``stats["upper_bound"]`` is its
     length (``rank(q0)`` is at most that) and the context's progress callback hears of it
     (stage ``"settled witness"``); the A* then proves the rank and reads the witness.
+    When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
+    (``stats["blocked_group"]``: the group whose set excludes the start or the target,
+    ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
+    A* keeps only states inside them.
     A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
     check_settled_route(model)
@@ -233,7 +300,15 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
             "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None, "max_layer_nodes": 0,
             "blocked_group": [i + 1 for i in group], "certificate": _blocked_text(group),
             "seconds": round(time.perf_counter() - t0, 4)})
-    found = greedy_witness(model, bound, greedy_limit)
+    found, proj = greedy_witness(model, bound, greedy_limit), None
+    if found is None:
+        proj, found = refined_answer(model, bound, ctx)
+        if proj.excluded is not None:
+            return CCCResult(False, [], None, [], {
+                "route": "settled", "relations": 0, "build_seconds": round(time.perf_counter() - t0, 4),
+                "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None,
+                "max_layer_nodes": 0, "blocked_group": [i + 1 for i in proj.excluded],
+                "refinement": "forward" if proj.forward else "backward", "certificate": _refined_text(proj), "seconds": round(time.perf_counter() - t0, 4)})
     graph = SettledGraph(model, ctx, order, group_size, bound)
     ctx = graph.ctx
     check = ThrottledCheck(ctx)
@@ -243,7 +318,8 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
              "greedy_expanded": None if found is None else found.expanded}
     if found is not None:  # the verdict is proved: say so before the search for the rank
         ctx.check_budget("settled witness", upper_bound=found.length, forcible=True)
-    search = _astar(graph, check, None if found is None else found.length - graph.start_cost)
+    allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
+    search = _astar(graph, check, None if found is None else found.length - graph.start_cost, allowed)
     t2 = time.perf_counter()
     stats["buckets"] = search.buckets
     stats.update(search_seconds=round(t2 - t1, 4), distance=search.found,

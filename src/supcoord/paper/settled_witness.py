@@ -28,6 +28,7 @@ References
 from __future__ import annotations
 
 import heapq
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..errors import InputError, ModelError
@@ -35,11 +36,14 @@ from .coupled import CoupledModel
 from .settled_bound import PatternBound
 from .settled_graph import State, settle, successor_events
 
-__all__ = ["GREEDY_LIMIT", "GreedyWitness", "greedy_witness", "replay"]
+__all__ = ["GREEDY_LIMIT", "POSITION_LIMIT", "GreedyWitness", "greedy_witness", "position_witness", "replay"]
 
 #: settled states :func:`greedy_witness` expands at most before it gives up: about 5 s of CPU
 #: at 19 positioners, where 6 of the 7 strings found over seeds 0-29 took fewer (survey_coupled.py)
 GREEDY_LIMIT = 2_000
+#: configurations :func:`position_witness` expands at most: about 10 s of CPU at 19
+#: positioners; seed 6 took 8,397 (survey_coupled.py)
+POSITION_LIMIT = 50_000
 
 
 @dataclass(frozen=True)
@@ -191,4 +195,97 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
             parent[nxt] = (y, name)
             tie += 1
             heapq.heappush(queue, (h, g + 1 + d, tie, nxt))
+    return None
+
+
+def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str]:
+    """The full string of a path of configurations given by its steps ``(i, ±1)``: at each
+    settled state the controllable event of ``P_i`` that turns it that way (``v``/``h``
+    or ``w``/``l``, whichever is defined), pending events fired smallest first."""
+    path: list[str] = []
+    state = _settled(model, (tuple(model.inst.start), (0,) * model.inst.size), path)
+    for i, s in moves:
+        after = model._next[s][state[0][i]]
+        name, state = next((name, z) for name, z in successor_events(model, state, controllable=True)
+                           if z[0][i] == after and z[0][:i] == state[0][:i] and z[0][i + 1:] == state[0][i + 1:])
+        path.append(name)
+        state = _settled(model, state, path)
+    return path
+
+
+def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...]], bool],
+                     limit: int = POSITION_LIMIT) -> GreedyWitness | None:
+    """A forcing string found by greedy best-first search on configurations, or None.
+
+    The verdict depends on positions only (:mod:`.settled`), so this searches the graph of
+    configurations (:mod:`.settled_refine`: a step of ``P_i`` allowed by every neighbour's
+    pair table), ordered by the bound ``h`` of :mod:`.settled_bound`, then by the steps
+    spent, skipping configurations where ``h`` is infinite or ``admits`` is false (sound
+    pruning: a co-reachable over-approximation of :func:`.settled_refine.refine`).  The
+    path found is read as events (the controllable event that makes each step, pending
+    events smallest first) and checked by :func:`replay`.
+
+    Parameters
+    ----------
+    model : CoupledModel
+        The instance; its target must have no arm in another's safety zone.
+    bound : PatternBound
+        The lower bound ``h`` ordering the search.
+    admits : callable
+        ``admits(pos)``: False only where the target is unreachable from ``pos``.
+    limit : int
+        Configurations expanded at most.
+
+    Returns
+    -------
+    GreedyWitness or None
+        A string that :func:`replay` accepts, or None (which proves nothing).
+
+    Raises
+    ------
+    InputError
+        If ``limit`` is not a positive integer.
+
+    Examples
+    --------
+    >>> from supcoord.paper.run import coupled_instance
+    >>> model = CoupledModel(coupled_instance(3, 8, 0))
+    >>> position_witness(model, PatternBound(model), lambda pos: True).length
+    8
+    """
+    from .settled_refine import pair_tables
+
+    if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
+        raise InputError(f"limit must be a positive integer, got {limit!r}", value=limit, where="limit")
+    n, size, nxt = model.inst.steps, model.inst.size, model._next
+    tables = pair_tables(model)
+    masks = {(i, s, p): [(j, sum(1 << q for q in range(n) if tables[(i, j, s)][p, q])) for j in model.neighbours[i]]
+             for i in range(size) for s in (1, -1) for p in range(n)}  # neighbours' allowed positions, as bits
+    start, target = tuple(model.inst.start), tuple(model.inst.target)
+    parent: dict[tuple[int, ...], tuple[tuple[int, ...], tuple[int, int]] | None] = {start: None}
+    h0 = bound.value(start)
+    queue = [] if h0 is None or not admits(start) else [(h0, 0, start)]
+    expanded = 0
+    while queue and expanded < limit:
+        _, g, x = heapq.heappop(queue)
+        if x == target:
+            moves = []
+            while parent[x] is not None:
+                x, step = parent[x]
+                moves.append(step)
+            witness = _moves_string(model, moves[::-1])
+            return GreedyWitness(tuple(witness), replay(model, witness), expanded)
+        expanded += 1
+        for i in range(size):
+            for s in (1, -1):
+                if not all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
+                    continue
+                y = x[:i] + (nxt[s][x[i]],) + x[i + 1:]
+                if y in parent:
+                    continue
+                h = bound.value(y)
+                if h is None or not admits(y):
+                    continue
+                parent[y] = (x, (i, s))
+                heapq.heappush(queue, (h, g + 1, y))
     return None
