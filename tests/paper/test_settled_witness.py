@@ -77,3 +77,21 @@ def test_the_greedy_search_refuses_a_bad_limit_and_gives_up_at_its_limit():
         with pytest.raises(InputError):
             greedy_witness(model, bound, limit=bad)
     assert greedy_witness(model, bound, limit=1) is None
+
+
+def test_a_budget_that_ends_the_search_for_the_rank_keeps_the_proved_verdict():
+    """Once the greedy string proves "forcible", every report of the A* carries the verdict and
+    the string, so a budget that stops the search for the rank still answers with both
+    (``BudgetExceeded.stats`` are the last report's)."""
+    from supcoord.bdd.context import Context
+
+    model = CoupledModel(coupled_instance(5, 8, 0))
+    found = greedy_witness(model, PatternBound(model))
+    reports = []
+    ctx = Context(progress=lambda stage, info: reports.append((stage, info)))
+    settled_ccc(model, ctx)
+    searching = [info for stage, info in reports if stage == "settled"]
+    assert found is not None and searching
+    for info in searching:
+        assert info["forcible"] is True and info["upper_bound"] == found.length
+        assert replay(model, info["witness"]) == found.length

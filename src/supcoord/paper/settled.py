@@ -82,6 +82,7 @@ import heapq
 import itertools
 import time
 from dataclasses import dataclass
+from typing import Callable
 
 from ..bdd.context import BDD, Context, ThrottledCheck
 from ..errors import ModelError
@@ -102,7 +103,7 @@ class _Search:
     buckets: int  # (g, h) buckets expanded
 
 
-def _astar(graph: SettledGraph, check: ThrottledCheck, upper: int | None = None,
+def _astar(graph: SettledGraph, check: Callable[..., None], upper: int | None = None,
            allowed: BDD | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
@@ -278,7 +279,9 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     ``greedy_limit`` settled states) looks for a forcing string, checked by replay: when it
     finds one, "forcible" is proved before the A* starts, ``stats["upper_bound"]`` is its
     length (``rank(q0)`` is at most that) and the context's progress callback hears of it
-    (stage ``"settled witness"``); the A* then proves the rank and reads the witness.
+    (stage ``"settled witness"``); the A* then proves the rank and reads the witness. Each
+    of the A*'s reports then carries ``forcible``, ``upper_bound`` and ``witness``, so a budget
+    that ends the search for the rank still answers with the verdict and the string.
     When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
     (``stats["blocked_group"]``: the group whose set excludes the start or the target,
     ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
@@ -316,10 +319,14 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4),
              "upper_bound": None if found is None else found.length,
              "greedy_expanded": None if found is None else found.expanded}
+    # a proved verdict travels with every later report, so a budget that ends the search for
+    # the rank still answers "forcible" with its string (``BudgetExceeded.stats``)
+    proved = {} if found is None else {"forcible": True, "upper_bound": found.length, "witness": list(found.witness)}
     if found is not None:  # the verdict is proved: say so before the search for the rank
-        ctx.check_budget("settled witness", upper_bound=found.length, forcible=True)
+        ctx.check_budget("settled witness", **proved)
     allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
-    search = _astar(graph, check, None if found is None else found.length - graph.start_cost, allowed)
+    search = _astar(graph, lambda stage, **info: check(stage, **info, **proved),
+                    None if found is None else found.length - graph.start_cost, allowed)
     t2 = time.perf_counter()
     stats["buckets"] = search.buckets
     stats.update(search_seconds=round(t2 - t1, 4), distance=search.found,
