@@ -7,8 +7,10 @@ do not expect to fail and end the process (a segmentation fault) instead.  So th
 forks first: the child does the work under the cap and prints its result as usual; the
 parent waits, and when the child dies of a signal after using at least
 :data:`NEAR_BUDGET` of the budget, the parent reports what the user asked for — exit 3
-with ``"status": "unknown"`` — rather than a crash.  A child that dies of a signal far
-below its budget is a bug (exit 1, one line).
+with ``"status": "unknown"`` — rather than a crash.  A child stopped by a signal that only another process or the
+system sends (SIGTERM, SIGHUP, SIGKILL: an operator, a batch scheduler, the kernel's
+out-of-memory killer) is reported as such, with the shell's status ``128 + signal``; a
+child that dies of any other signal far below its budget is a bug (exit 1, one line).
 
 The fork happens only from the main thread and when standard output and error are real
 files (a terminal, a pipe, a file); a caller that captured them (``main([...])`` in a
@@ -28,6 +30,8 @@ __all__ = ["NEAR_BUDGET", "can_fork", "run_in_child"]
 #: share of the budget a child must have used for its death by a signal to count as the
 #: budget running out
 NEAR_BUDGET = 0.8
+#: signals supcoord never raises in its own child: its death by one of them came from outside
+FROM_OUTSIDE = (signal.SIGTERM, signal.SIGHUP, signal.SIGKILL)
 
 
 def can_fork() -> bool:
@@ -52,8 +56,9 @@ def _die_with_parent() -> None:
 def run_in_child(work: Callable[[], int], max_memory: int,
                  out_of_memory: Callable[[str, dict], int], crashed: Callable[[str], int]) -> int:
     """``work()`` in a forked child; its exit status, or ``out_of_memory(reason, stats)``
-    when it died of a signal near ``max_memory`` bytes, or ``crashed(message)`` when it
-    died of a signal well below (module docstring)."""
+    when it died of a signal near ``max_memory`` bytes, ``128 + signal`` after
+    ``crashed(message)`` prints why when another process or the system stopped it, or
+    ``crashed(message)`` when it died of another signal well below (module docstring)."""
     sys.stdout.flush()
     sys.stderr.flush()
     from ..bdd.memory import memory_status
@@ -104,5 +109,9 @@ def run_in_child(work: Callable[[], int], max_memory: int,
         return out_of_memory(f"memory budget exceeded: the computation ended ({name}) when an allocation "
                              f"failed at the budget of {max_memory / 2**20:.0f} MiB",
                              {"stage": "memory", "peak_rss_bytes": peak, "signal": name})
+    if sig in FROM_OUTSIDE:
+        crashed(f"the computation was stopped by {name} from outside supcoord (another process or the "
+                f"system) at {peak / 2**20:.0f} MiB resident")
+        return 128 + sig
     return crashed(f"the computation died of {name} at {peak / 2**20:.0f} MiB resident, "
                    f"well below its memory budget: a bug (please report it)")
