@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import event, given, settings
+from hypothesis import event, example, given, settings
 from hypothesis import strategies as st
 from strategies import tight_route
 
@@ -43,6 +43,7 @@ from supcoord.testing.oracle import (
     oracle_solve,
 )
 from supcoord.testing.oracle.bfs import Space
+from supcoord.testing.oracle.certified_sweep import MAX_OPEN
 from supcoord.testing.oracle.tight_problems import tight_problem
 from supcoord.testing.oracle.distance import segment_gap
 from supcoord.testing.oracle.oracle_model import Arm, OracleProblem, hex_bases
@@ -224,6 +225,8 @@ def _dense(spec, offset, qa, da, qb, db, n=20001):
 
 @settings(max_examples=100, deadline=None)
 @given(motions(), st.floats(-0.01, 0.01), st.sampled_from([True, True, False]), st.floats(0.0, 6.0))
+@example(({"kind": "rotary", "arm": 2.0, "steps": 4}, Arm.from_json({"kind": "rotary", "arm": 2.0, "steps": 4}),
+          2 + 0j, np.array([1]), np.array([1]), np.array([0]), np.array([1])), -0.000286932026038713, True, 0.0)
 def test_certified_sweep_agrees_with_dense_sampling(motion, eps, near, anywhere):
     spec, arm, offset, qa, da, qb, db = motion
     d = _dense(spec, offset, qa, da, qb, db)
@@ -233,17 +236,20 @@ def test_certified_sweep_agrees_with_dense_sampling(motion, eps, near, anywhere)
     need = max(0.0, float(d.min()) + eps) if near else anywhere
     verdict = oracle_motion(_pair(spec, offset, need), 0, qa, da, 1, qb, db)
     event(f"verdict {verdict}, {'near the least distance' if near else 'any need'}")
-    slack = lip * h / 2 + 1e-9
+    slack = lip * h / 2 + 1e-9  # the true least distance is at most this below the samples'
+    # an entry whose distance stays within lip / (2 MAX_OPEN) of the need over a long stretch may
+    # hold more than MAX_OPEN open intervals before they settle: undecided, by the oracle's design
+    crowded = lip / (2 * MAX_OPEN)
     if d.min() < need - 1e-9:
         assert verdict == HIT
-    if d.min() >= need + slack:
+    if d.min() >= need + slack + crowded:
         assert verdict == FREE
     if verdict == FREE:
         assert d.min() >= need - 1e-9
     elif verdict == HIT:
         assert d.min() < need + slack
     else:
-        assert verdict == UNDECIDED and abs(d.min() - need) <= slack
+        assert verdict == UNDECIDED and abs(d.min() - need) <= slack + crowded
 
 
 def _pair(spec, offset, need, qa=None, qb=None):
