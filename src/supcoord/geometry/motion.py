@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .kinematics import Kinematics
+from .kinematics import AlphaBeta, Kinematics, Rotary
 from .segments import segment_coords, segment_distance_xy
 from .sweep import rotation_clearance
 
@@ -119,14 +119,13 @@ def _bisect_collides(kin_a: Kinematics, base_a: np.ndarray, qa: np.ndarray, da: 
     ``bsum`` is split, until a sample collides, every bound clears ``bsum``, or an interval's
     ``L·(t1 − t0)/2`` is at most ``tol`` (then the entry counts as colliding)."""
     hit = np.zeros(len(qa), dtype=bool)
+    moving_a, moving_b = _Moving(kin_a, base_a, qa, da), _Moving(kin_b, base_b, qb, db)
 
     def dist(e: np.ndarray, t: np.ndarray) -> np.ndarray:
         out = np.empty(len(e))
         for lo in range(0, len(e), CHUNK):
-            i, tt = e[lo:lo + CHUNK], t[lo:lo + CHUNK, None]
-            sa = segment_coords(placed_segments(kin_a, base_a[i], qa[i] + tt * da[i]))
-            sb = segment_coords(placed_segments(kin_b, base_b[i], qb[i] + tt * db[i]))
-            out[lo:lo + CHUNK] = segment_distance_xy(*sa, *sb)
+            i, tt = e[lo:lo + CHUNK], t[lo:lo + CHUNK]
+            out[lo:lo + CHUNK] = segment_distance_xy(*moving_a.coords(i, tt), *moving_b.coords(i, tt))
         return out
 
     grid = np.linspace(0.0, 1.0, coarse + 1)
@@ -134,23 +133,23 @@ def _bisect_collides(kin_a: Kinematics, base_a: np.ndarray, qa: np.ndarray, da: 
     d = dist(e, np.tile(grid, len(qa))).reshape(len(qa), coarse + 1)
     hit |= (d < bsum[:, None]).any(axis=1)
     ee, ii = (g.ravel() for g in np.meshgrid(np.arange(len(qa)), np.arange(coarse), indexing="ij"))
-    rows = np.stack([ee, grid[ii], grid[ii + 1], d[ee, ii], d[ee, ii + 1]], axis=1)
-    while len(rows):
-        rows = rows[~hit[rows[:, 0].astype(int)]]
-        e = rows[:, 0].astype(int)
-        bound = (rows[:, 3] + rows[:, 4] - length[e] * (rows[:, 2] - rows[:, 1])) / 2
-        open_ = bound < bsum[e]
-        stuck = open_ & (length[e] * (rows[:, 2] - rows[:, 1]) / 2 <= tol)
+    # the open intervals, one array per field: entry, t0, t1, d(t0), d(t1)
+    rows = (ee, grid[ii], grid[ii + 1], d[ee, ii], d[ee, ii + 1])
+    while len(rows[0]):
+        left = ~hit[rows[0]]
+        e, t0, t1, d0, d1 = rows = tuple(x[left] for x in rows)
+        span = length[e] * (t1 - t0)
+        open_ = (d0 + d1 - span) / 2 < bsum[e]
+        stuck = open_ & (span / 2 <= tol)
         hit[e[stuck]] = True  # conservative at the tolerance
-        rows = rows[open_ & ~stuck & ~hit[e]]
-        if not len(rows):
+        e, t0, t1, d0, d1 = (x[open_ & ~stuck & ~hit[e]] for x in rows)
+        if not len(e):
             break
-        e = rows[:, 0].astype(int)
-        mid = (rows[:, 1] + rows[:, 2]) / 2
+        mid = (t0 + t1) / 2
         dm = dist(e, mid)
         hit[e[dm < bsum[e]]] = True
-        rows = np.concatenate([np.stack([e, rows[:, 1], mid, rows[:, 3], dm], axis=1),
-                               np.stack([e, mid, rows[:, 2], dm, rows[:, 4]], axis=1)])
+        rows = (np.concatenate([e, e]), np.concatenate([t0, mid]), np.concatenate([mid, t1]),
+                np.concatenate([d0, dm]), np.concatenate([dm, d1]))
     return hit
 
 
@@ -176,3 +175,40 @@ def turn_collides(kin_m: Kinematics, base_m: Any, qm: Any, joint: int, delta: An
                                        placed_segments(kin_s, bs, qs[sl]))
         out[sl] = clearance < np.broadcast_to(bsum, (len(qm),))[sl]
     return out
+
+
+class _Moving:
+    """One side of :func:`_bisect_collides`' entries: robot ``kin`` at ``base`` ``(E, 2)``,
+    moving from ``q`` by ``d`` (``(E, J)``).
+
+    :meth:`coords` places its colliding segment at fractions ``t`` of some entries' motions as
+    the four coordinate rows of :func:`.segments.segment_distance_xy`: for the chain robots
+    (alpha-beta, rotary) it evaluates :func:`.chain.chain_segments`' formula on contiguous
+    one-dimensional arrays, the same operations in the same order, so the same numbers bit for
+    bit as ``segment_coords(placed_segments(kin, base[i], q[i] + t·d[i]))``, without the
+    interleaved ``(n, 2, 2)`` arrays whose length-2 inner loops cost most of that; any other
+    kinematics goes through :func:`placed_segments`.
+    """
+
+    def __init__(self, kin: Kinematics, base: np.ndarray, q: np.ndarray, d: np.ndarray):
+        self.kin, self.base = kin, base
+        self.chain = kin.chain() if isinstance(kin, (AlphaBeta, Rotary)) else None
+        self.q_t, self.d_t = np.ascontiguousarray(q.T), np.ascontiguousarray(d.T)  # (J, E): one row a joint
+        self.bx, self.by = np.ascontiguousarray(base[:, 0]), np.ascontiguousarray(base[:, 1])
+
+    def coords(self, i: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        """``(px, py, qx, qy)`` of the segment of entries ``i`` at fractions ``t`` (``(n,)``, mm)."""
+        q = np.empty((len(self.q_t), len(i)))
+        for joint, (qj, dj) in enumerate(zip(self.q_t, self.d_t)):
+            q[joint] = qj[i] + t * dj[i]
+        if self.chain is None:
+            return tuple(segment_coords(placed_segments(self.kin, self.base[i], q.T)))
+        a, b = self.kin.chain_angles(q.T)
+        l1, ((x0, y0), (x1, y1)) = self.chain
+        ex, ey = l1 * np.cos(a), l1 * np.sin(a)
+        ab = a + b
+        c, s = np.cos(ab), np.sin(ab)
+        bx, by = self.bx[i], self.by[i]
+        return (ex + (x0 * c - y0 * s) + bx, ey + (x0 * s + y0 * c) + by,
+                ex + (x1 * c - y1 * s) + bx, ey + (x1 * s + y1 * c) + by)
+
