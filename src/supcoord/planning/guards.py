@@ -91,18 +91,13 @@ def blocked_table(problem: Problem, pair: Pair, mover: Mover) -> Flags:
     key = _key(problem, pair, mover)
     if key in store:
         return store.get(key)
-    tables, kin = problem.tables(), problem.kinematics
-    w = tables.swept(pair, mover)
+    w = problem.tables().swept(pair, mover)
     if mover == 1:
         w = np.swapaxes(w, 1, 2)  # [move, mover_at, other_at]
-    pos = kin.all_positions()
-    moves = kin.moves()
+    nxt, rev = _successors(problem)
     out = w.copy()
-    for m, (joint, delta) in enumerate(moves):
-        rev = moves.index((joint, -delta))
-        nxt, ok = kin.step_array(pos, joint, delta)
-        idx = np.nonzero(ok)[0]
-        out[m, idx] |= w[rev, kin.flat_index(nxt[idx])]  # the way back must be free too
+    m, at = np.nonzero(nxt >= 0)  # the moves inside the hard stops
+    out[m, at] |= w[rev[m], nxt[m, at]]  # the way back must be free too
     return store.put(key, out)
 
 
