@@ -26,11 +26,16 @@ def chain_segments(l1: Any, segment: Any, a: Any, b: Any) -> np.ndarray:
     (radians, ``(...)``); every argument broadcasts against the others."""
     a, b, l1 = np.asarray(a, float), np.asarray(b, float), np.asarray(l1, float)
     s = np.asarray(segment, float)
-    ex, ey = (l1 * np.cos(a))[..., None], (l1 * np.sin(a))[..., None]
-    c, sn = np.cos(a + b)[..., None], np.sin(a + b)[..., None]
-    x = ex + (s[..., 0] * c - s[..., 1] * sn)
-    y = ey + (s[..., 0] * sn + s[..., 1] * c)
-    return np.stack([x, y], axis=-1)
+    ex, ey = l1 * np.cos(a), l1 * np.sin(a)
+    ab = a + b
+    c, sn = np.cos(ab), np.sin(ab)
+    # each coordinate of each end point on its own (contiguous) array, written into place
+    out = np.empty(np.broadcast_shapes(ex.shape, c.shape, s.shape[:-2]) + (2, 2))
+    for k in (0, 1):
+        sx, sy = s[..., k, 0], s[..., k, 1]
+        out[..., k, 0] = ex + (sx * c - sy * sn)
+        out[..., k, 1] = ey + (sx * sn + sy * c)
+    return out
 
 
 def chain_angles_deg(angles_deg: Any, offsets_deg: Any) -> tuple[np.ndarray, np.ndarray]:
