@@ -91,6 +91,7 @@ from .coupled import CoupledModel
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
 from .settled_graph import SettledGraph, State, check_settled_route, settle, successor_events, target_in_zone
 from .settled_refine import Projections, proj_bdd, refine
+from .settled_sets_bound import within_sets
 from .settled_witness import GREEDY_LIMIT, GreedyWitness, greedy_witness, position_witness
 
 __all__ = ["SettledGraph", "RankBounds", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
@@ -323,7 +324,8 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
     (``stats["blocked_group"]``: the group whose set excludes the start or the target,
     ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
-    A* keeps only states inside them.
+    A* keeps only states inside them, its bound restricted to them too
+    (:mod:`.settled_sets_bound`).
     Otherwise a ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
     check_settled_route(model)
@@ -359,6 +361,8 @@ def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int,
     "forcible", a budget that ends the relations or the A* gives that verdict, the string
     and :class:`RankBounds` (``stats["rank_bounds"]``, ``rank`` None) instead of raising."""
     _, start_cost = settle(model, tuple(model.inst.start), (0,) * model.inst.size)
+    if proj is not None:  # the A* keeps only states inside the sets: its bound may use them too
+        bound = within_sets(bound, proj)
     search = _Search([], None if found is None else found.length - start_cost,
                      lower=bound.value(tuple(model.inst.start)) or 0)
     # a proved verdict travels with every later report too (the bench reads them from a killed run)
