@@ -40,6 +40,10 @@ and ``benchmarks`` exported by ``git archive``), next to this checkout's, labell
 machine the wall clock says little); ``--jobs K`` runs K points at once.  A settled point
 stopped by a limit after its greedy search found a forcing string reports the verdict
 (``yes``, proved by the checked string) and the string's length, an upper bound on the rank.
+``--answer-cpu SECONDS`` ends each worker's budget at its first progress report past that
+much CPU (as ``supcoord paper --timeout`` ends it on the wall clock): a settled point that
+had proved "forcible" then answers with its string and the rank's bounds ``[lower, upper]``
+(column ``rank``), not proved minimal.
 
 A point that runs out of time reports the stage it was in; larger ``N`` are then not run
 for that order (``--all`` runs them anyway, to show where each stops).  With ``--check`` (``N ≤ 4``) the worker also runs the explicit twin
@@ -88,9 +92,13 @@ def _emit(kind: str, data: dict) -> None:
     print(kind, json.dumps(data), flush=True)
 
 
-def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: bool, variant: str = "new") -> None:
-    """One point; prints ``P {...}`` progress lines and a final ``R {...}`` line."""
+def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: bool, variant: str = "new",
+           answer_cpu: float | None = None) -> None:
+    """One point; prints ``P {...}`` progress lines and a final ``R {...}`` line.  ``answer_cpu``:
+    CPU seconds after which the next progress report ends the budget (``BudgetExceeded``, as
+    ``--timeout`` ends it on the wall clock), so the settled route answers with what it proved."""
     from supcoord.bdd import Context
+    from supcoord.errors import BudgetExceeded
     from supcoord.paper.coupled import CoupledModel, coupled_models, positioner_order
     from supcoord.paper.run import AUTO_COUNT_COUPLED, coupled_instance
     from supcoord.synthesis import accessible_part, ccc, supcon
@@ -108,6 +116,8 @@ def worker(size: int, steps: int, seed: int, order: str, check: bool, nodes: boo
             _emit("P", {"stage": stage, "at": round(time.perf_counter() - t0, 2), "nodes": info.get("nodes"),
                         "rss_mb": _rss_mb(), "cpu": round(time.process_time(), 2),
                         **({"upper_bound": info["upper_bound"]} if "upper_bound" in info else {})})
+        if answer_cpu is not None and time.process_time() > answer_cpu:
+            raise BudgetExceeded(f"CPU budget of {answer_cpu:g} s exceeded in {stage}", stats=info)
 
     ctx = Context(progress=progress)
     inst = coupled_instance(size, steps, seed)
@@ -181,6 +191,7 @@ def _settled(model, ctx, order: str, t0: float, seed: int, variant: str) -> None
         "buckets": st["buckets"], "max_layer_nodes": st["max_layer_nodes"], "bdd_nodes": None,
         "blocked_group": st.get("blocked_group"), "upper_bound": st.get("upper_bound"),
         "greedy_expanded": st.get("greedy_expanded"), "cpu": round(time.process_time(), 2),
+        "rank_bounds": None if st.get("rank_bounds") is None else [st["rank_bounds"].lower, st["rank_bounds"].upper],
         "peak_nodes": ctx.peak_nodes(), "rss_mb": _rss_mb()})
 
 
@@ -227,7 +238,8 @@ def export_revision(rev: str, into: str) -> str:
 
 
 def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nodes: bool,
-              variant: str = "new", source: tuple[str, str] | None = None, cpu: float | None = None) -> dict:
+              variant: str = "new", source: tuple[str, str] | None = None, cpu: float | None = None,
+              answer_cpu: float | None = None) -> dict:
     """One point in a fresh subprocess; ``source`` = ``(rev, dir)``: the worker of an older
     revision exported by :func:`export_revision` (its ``src`` first on ``sys.path``)."""
     script = os.path.abspath(__file__) if source is None else os.path.join(source[1], "benchmarks", "bench_coupled.py")
@@ -235,6 +247,7 @@ def run_point(size: int, order: str, timeout: float, seed: int, check: bool, nod
     cmd = [sys.executable, script, "--worker", str(size), order, str(seed), variant]
     cmd += ["--check"] if check else []
     cmd += ["--nodes"] if nodes else []
+    cmd += ["--answer-cpu", str(answer_cpu)] if answer_cpu is not None else []
     t = time.perf_counter()
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, preexec_fn=_limiter(cpu),
@@ -289,6 +302,8 @@ def table(rows: list[dict]) -> str:
         verdict = None if "rank" not in r else "yes" if r["ccc"] else "no"
         if verdict is None and last and last.get("upper_bound"):
             verdict = f"yes (checked witness of {last['upper_bound']} events; rank not proved)"
+        elif r.get("rank_bounds"):
+            verdict += f" (checked witness of {r['witness_length']} events; rank bounded)"
         elif r.get("upper_bound"):
             verdict += f" (greedy witness: {r['upper_bound']} events)"
         if r.get("blocked_group"):
@@ -298,7 +313,8 @@ def table(rows: list[dict]) -> str:
                  r.get("supcon"), r.get("ccc_seconds"), r.get("count"), prof.get("images"), prof.get("image_seconds"),
                  prof.get("max_operand_nodes"), len(r["clusters"]) if "clusters" in r else None,
                  r.get("reach_nodes"), r.get("bdd_nodes"), r.get("peak_nodes"), r.get("rss_mb"), r.get("states"),
-                 r.get("transitions"), r.get("rank"),
+                 r.get("transitions"),
+                 f"[{r['rank_bounds'][0]}, {r['rank_bounds'][1]}]" if r.get("rank_bounds") else r.get("rank"),
                  f"{r['buckets']} / {_fmt(r['max_layer_nodes'])}" if "buckets" in r else None, eq]
         out.append("| " + " | ".join(_fmt(c) for c in cells) + " |")
     return "\n".join(out)
@@ -324,6 +340,9 @@ def main(argv: list[str] | None = None) -> int:
                          "without Reach, as supcoord paper runs)")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per point (default 120)")
     ap.add_argument("--cpu", type=float, default=None, help="CPU seconds per point (default: no limit)")
+    ap.add_argument("--answer-cpu", type=float, default=None,
+                    help="CPU seconds after which a point's budget ends at its next progress report: a settled "
+                         "point that proved 'forcible' then answers with its string and the rank's bounds")
     ap.add_argument("--jobs", type=int, default=1, help="points run at once (more than 1: every size runs)")
     ap.add_argument("--seeds", "--seed", dest="seeds", type=int, nargs="+", default=[0],
                     help="seeds of the random instances, each size run on each (default 0)")
@@ -338,7 +357,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.worker:
         size, order, seed, variant = args.worker
-        worker(int(size), STEPS, int(seed), order, args.check, args.nodes, variant)
+        worker(int(size), STEPS, int(seed), order, args.check, args.nodes, variant, args.answer_cpu)
         return 0
     if args.quick:
         args.sizes, args.timeout = [3, 4], 30.0
@@ -353,7 +372,7 @@ def main(argv: list[str] | None = None) -> int:
                       for seed in args.seeds for variant in args.variants for source in sources]
             with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
                 futures = [pool.submit(run_point, size, order, args.timeout, seed, args.check, args.nodes, variant,
-                                       source, args.cpu) for size, order, seed, variant, source in points]
+                                       source, args.cpu, args.answer_cpu) for size, order, seed, variant, source in points]
                 for future in futures:
                     rows.append(future.result())
                     print(table(rows[-1:]).splitlines()[-1], file=sys.stderr, flush=True)
@@ -364,7 +383,7 @@ def main(argv: list[str] | None = None) -> int:
                     for variant in args.variants:  # side by side: same size, same load
                         for source in sources:
                             row = run_point(size, order, args.timeout, seed, args.check, args.nodes, variant,
-                                            source, args.cpu)
+                                            source, args.cpu, args.answer_cpu)
                             rows.append(row)
                             print(table([row]).splitlines()[-1], file=sys.stderr, flush=True)
                             stop &= "rank" not in row
@@ -385,6 +404,7 @@ def main(argv: list[str] | None = None) -> int:
         f.write(f"Load (1/5/15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; after: "
                 f"{', '.join(f'{x:.2f}' for x in load_after)} — the machine is shared, read ratios within a run.  \n")
         cpu = "" if args.cpu is None else f", {args.cpu:g} s of CPU"
+        cpu += "" if args.answer_cpu is None else f" (the budget ended after {args.answer_cpu:g} s of CPU)"
         f.write(f"Each point: a fresh subprocess, {args.timeout:g} s{cpu} and 6 GiB at most; n = {STEPS} steps, "
                 f"seeds {', '.join(map(str, args.seeds))}.\n\n")
         f.write(text + "\n\n" + agree + "\n\n")

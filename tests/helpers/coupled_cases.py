@@ -94,3 +94,72 @@ def configuration_sets(model: CoupledModel) -> tuple[set, set]:
         return seen
 
     return closure(tuple(inst.start), False), closure(tuple(inst.target), True)
+
+
+def exact_ranks(model: CoupledModel) -> dict[tuple, int]:
+    """``{(pos, lvl): rank}`` of every plant state reachable from the start from which the
+    target is forcible under preemptive semantics, by the definition alone: the plant's
+    events written from the geometry tables (collision ``k``/``e`` uncontrollable, moves
+    ``v``/``w``/``h``/``l`` and ``m`` controllable), the attractor built layer by layer
+    (a state with an uncontrollable event defined joins when all of its uncontrollable
+    successors are in, any other when one controllable successor is)."""
+    inst = model.inst
+    n, r, size = inst.steps, inst.priority, inst.size
+
+    def events(state: tuple) -> tuple[list, list]:
+        pos, lvl = state
+        unc, con = [], []
+        for i in range(size):
+            zone = [j for j in model.neighbours[i] if model.zone[(i, j)][pos[i], pos[j]]]
+            c, level = len(zone), lvl[i]
+            free = {s: not any(model.swept[(i, j, s)][pos[i], pos[j]] for j in model.neighbours[i]) for s in (1, -1)}
+
+            def put(p: int, lv: int) -> tuple:
+                return pos[:i] + (p % n,) + pos[i + 1:], lvl[:i] + (lv,) + lvl[i + 1:]
+
+            if level < min(c, 2):
+                unc.append(put(pos[i], level + 1))
+            if level >= 1 and c == 0:
+                unc.append(put(pos[i], 0))
+            for s in (1, -1):
+                if free[s] and (level == 0 or (c >= 1 and all((r[i] < r[j]) if s > 0 else (r[i] > r[j])
+                                                              for j in zone))):
+                    con.append(put(pos[i] + s, 0))
+            if level == 2 and c <= 1:
+                con.append(put(pos[i], 1))
+        return unc, con
+
+    start = (tuple(inst.start), (0,) * size)
+    moves, queue = {start: events(start)}, deque([start])
+    while queue:
+        unc, con = moves[queue.popleft()]
+        for nxt in unc + con:
+            if nxt not in moves:
+                moves[nxt] = events(nxt)
+                queue.append(nxt)
+    target = (tuple(inst.target), (0,) * size)
+    before: dict[tuple, list[tuple]] = {}
+    for x, (unc, con) in moves.items():
+        for y in set(unc) | set(con):
+            before.setdefault(y, []).append(x)
+    waiting = {x: len(set(unc)) for x, (unc, con) in moves.items() if unc}  # uncontrollable successors not in
+    rank = {target: 0} if target in moves else {}
+    frontier, layer = list(rank), 0
+    while frontier:
+        layer += 1
+        new = []
+        for y in frontier:
+            for x in before.get(y, ()):
+                if x in rank:
+                    continue
+                if x in waiting:
+                    if y in moves[x][0]:
+                        waiting[x] -= 1
+                        if waiting[x] == 0:
+                            new.append(x)
+                elif y in moves[x][1]:
+                    new.append(x)
+        new = list(dict.fromkeys(new))
+        rank.update(dict.fromkeys(new, layer))
+        frontier = new
+    return rank

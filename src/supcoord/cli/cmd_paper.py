@@ -98,6 +98,9 @@ def _text(paper, payload: dict) -> str:
     verdict = "forcible" if paper.forcible else "NOT forcible"
     if paper.forcible:
         verdict += f", witness of {payload['witness_length']} events"
+    if paper.rank_bounds is not None:  # the verdict is proved, the rank only bounded
+        b = paper.rank_bounds
+        verdict += f", rank in [{b.lower}, {b.upper}] (not proved minimal: {b.stopped})"
     if paper.certificate:
         verdict += f" ({paper.certificate})"
     if paper.settled is not None:

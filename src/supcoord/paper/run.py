@@ -61,7 +61,7 @@ from .coupled import CoupledModel, Geometry
 from .literal import PaperInstance, hex_neighbours, hex_sites, random_instance
 from .paper_routes import (AUTO_COUNT_COUPLED, AUTO_COUNT_EVENTS, MODELS, ROUTES, RouteOptions, RouteResult, default_route,
                      paper_route)
-from .settled import target_in_zone
+from .settled import RankBounds, target_in_zone
 
 __all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "SupervisorSizes",
            "PaperTimings", "SettledSearch", "run_paper", "solve_paper", "coupled_instance", "default_route",
@@ -162,6 +162,10 @@ class PaperRun:
         Modular route: positioners solved (distinct up to symmetry).
     settled : SettledSearch or None
         Settled route: its search.
+    rank_bounds : RankBounds or None
+        Settled route, when a budget ended the search for the rank after a checked forcing
+        string had proved "forcible": ``lower ≤ rank ≤ upper`` (``ccc.rank`` is then None,
+        ``ccc.witness`` that string); None when the rank is proved or there is none.
 
     :meth:`to_json` is the object of ``supcoord paper --json`` (``docs/formats.md``).
     """
@@ -179,6 +183,7 @@ class PaperRun:
     timings: PaperTimings
     distinct_components: int | None = None
     settled: SettledSearch | None = None
+    rank_bounds: RankBounds | None = None
 
     @property
     def supervisor(self) -> SymbolicGenerator | None:
@@ -213,6 +218,9 @@ class PaperRun:
             out["distinct_components"] = self.distinct_components
         if self.settled is not None:
             out["settled"] = dict(vars(self.settled))
+        if self.rank_bounds is not None:  # "rank" is null: the bounds say what is proved of it
+            b = self.rank_bounds
+            out["rank_bounds"] = {"lower": b.lower, "upper": b.upper, "proved": False, "stopped": b.stopped}
         return out
 
     @property
@@ -413,7 +421,7 @@ def _paper_run(inst: PaperInstance, model: str, route: str, semantics: str, seed
     components = done.supcon.stats["distinct_components"] if route == "modular" else None
     settled = SettledSearch.of(done.ccc) if route == "settled" else None
     return PaperRun(inst, model, route, semantics, seed, done.G, done.E, done.supcon, done.ccc,
-                    SupervisorSizes.of(done.supcon), timings, components, settled)
+                    SupervisorSizes.of(done.supcon), timings, components, settled, done.ccc.stats.get("rank_bounds"))
 
 
 def solve_paper(positioners: int | None = None, steps: int | None = None, model: str = "literal", seed: int = 0,

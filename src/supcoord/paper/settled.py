@@ -85,30 +85,63 @@ from dataclasses import dataclass
 from typing import Callable
 
 from ..bdd.context import BDD, Context, ThrottledCheck
-from ..errors import ModelError
+from ..errors import BudgetExceeded, ModelError
 from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
 from .settled_graph import SettledGraph, State, check_settled_route, settle, successor_events, target_in_zone
 from .settled_refine import Projections, proj_bdd, refine
+from .settled_sets_bound import within_sets
 from .settled_witness import GREEDY_LIMIT, GreedyWitness, greedy_witness, position_witness
 
-__all__ = ["SettledGraph", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
+__all__ = ["SettledGraph", "RankBounds", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
+
+
+@dataclass(frozen=True)
+class RankBounds:
+    """``lower ≤ rank(q0) ≤ upper`` (events), the rank not proved: a budget ended the search
+    for it after a forcing string, checked by replay, had proved the verdict "forcible".
+
+    Attributes
+    ----------
+    lower : int
+        ``D(q0)`` plus the least ``f`` the A* had not finished sweeping: every settled
+        state of smaller ``f`` was expanded and the target was not among them (at least
+        ``D(q0) + h(settle(q0))``, the pattern-database bound, when the budget ended
+        before the search).
+    upper : int
+        The length of the witness returned (a forcing string is an upper bound on the
+        rank), or less where the A* had already reached the target by a shorter path.
+    stopped : str
+        The budget's one-line message.
+
+    Examples
+    --------
+    >>> RankBounds(48, 78, "time budget exceeded in settled")
+    RankBounds(lower=48, upper=78, stopped='time budget exceeded in settled')
+    """
+
+    lower: int
+    upper: int
+    stopped: str
 
 
 @dataclass
 class _Search:
+    """The A*'s state, filled in as it goes: a budget that stops it leaves what it proved."""
+
     layers: list[BDD]  # F(g): the expanded settled states at distance exactly g from settle(q0)
-    found: int | None  # distance of T from settle(q0), None if T is unreachable
-    buckets: int  # (g, h) buckets expanded
+    found: int | None  # distance of T from settle(q0) (an upper bound until the search ends), None: unreachable
+    buckets: int = 0  # (g, h) buckets expanded
+    lower: int = 0  # dist(T) >= lower: every state of f < lower was expanded without meeting T
 
 
-def _astar(graph: SettledGraph, check: Callable[..., None], upper: int | None = None,
-           allowed: BDD | None = None) -> _Search:
+def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, allowed: BDD | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
-    ``upper``: the weight of a known path to ``T`` (a checked witness), or None.
+    ``search``: filled in as the search goes; its ``found`` on entry is the weight of a
+    known path to ``T`` (a checked witness), or None.
     ``allowed``: the states kept (None: all); every state outside it must have no path to ``T``.
 
     ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
@@ -119,14 +152,17 @@ def _astar(graph: SettledGraph, check: Callable[..., None], upper: int | None = 
     exact = graph.distance_exact()
     at_most = list(itertools.accumulate(exact, lambda a, b: a | b))
     open_: dict[int, BDD] = {0: graph.start}
-    closed, layers = false, [false]
-    best: int | None = 0 if graph.start & graph.target != false else upper
-    f, buckets = graph.heuristic(graph.start_raw[0]), 0
+    closed, layers = false, search.layers
+    layers.append(false)
+    best: int | None = 0 if graph.start & graph.target != false else search.found
+    f = graph.heuristic(graph.start_raw[0])
     if f is None:  # even the relaxation of the bound cannot reach the target
-        return _Search(layers, None, 0)
+        search.found = None
+        return search
     while True:
         if best is not None and f > best:
             break
+        search.lower = f  # dist(T) < f would have put T into a sweep already finished
         for g in list(open_):
             open_[g] &= ~closed
             if open_[g] == false:
@@ -141,7 +177,7 @@ def _astar(graph: SettledGraph, check: Callable[..., None], upper: int | None = 
             if x == false:
                 continue
             check("settled", f=f, g=g, best=best)
-            buckets += 1
+            search.buckets += 1
             closed |= x
             open_[g] &= ~x
             while len(layers) <= g:
@@ -156,12 +192,13 @@ def _astar(graph: SettledGraph, check: Callable[..., None], upper: int | None = 
                 if y != false:
                     open_[g + w] = open_.get(g + w, false) | y
                     if y & graph.target != false:
-                        best = g + w if best is None else min(best, g + w)
+                        best = search.found = g + w if best is None else min(best, g + w)
         for g, x in open_.items():  # consistency: nothing generated below the f just swept
             if g <= f and x & at_most[min(f - g, len(at_most) - 1)] & ~closed != false:
                 raise ModelError(f"a state of f <= {f} was left unexpanded: the bound is not consistent", value=f)
         f += 1
-    return _Search(layers, best, buckets)
+    search.found = best
+    return search
 
 
 def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
@@ -280,13 +317,16 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     finds one, "forcible" is proved before the A* starts, ``stats["upper_bound"]`` is its
     length (``rank(q0)`` is at most that) and the context's progress callback hears of it
     (stage ``"settled witness"``); the A* then proves the rank and reads the witness. Each
-    of the A*'s reports then carries ``forcible``, ``upper_bound`` and ``witness``, so a budget
-    that ends the search for the rank still answers with the verdict and the string.
+    later report (relations and A*) carries ``forcible``, ``upper_bound`` and ``witness``,
+    and a budget that ends the search for the rank returns the proved verdict with that
+    string, ``rank`` None and ``stats["rank_bounds"]`` (:class:`RankBounds`: the rank
+    bounded, not proved minimal) instead of raising.
     When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
     (``stats["blocked_group"]``: the group whose set excludes the start or the target,
     ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
-    A* keeps only states inside them.
-    A ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
+    A* keeps only states inside them, its bound restricted to them too
+    (:mod:`.settled_sets_bound`).
+    Otherwise a ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
     t0 = time.perf_counter()
     check_settled_route(model)
     start = tuple(model.inst.start)
@@ -312,27 +352,47 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
                 "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None,
                 "max_layer_nodes": 0, "blocked_group": [i + 1 for i in proj.excluded],
                 "refinement": "forward" if proj.forward else "backward", "certificate": _refined_text(proj), "seconds": round(time.perf_counter() - t0, 4)})
-    graph = SettledGraph(model, ctx, order, group_size, bound)
-    ctx = graph.ctx
-    check = ThrottledCheck(ctx)
-    t1 = time.perf_counter()
-    stats = {"route": "settled", "relations": len(graph.moves), "build_seconds": round(t1 - t0, 4),
-             "upper_bound": None if found is None else found.length,
-             "greedy_expanded": None if found is None else found.expanded}
-    # a proved verdict travels with every later report, so a budget that ends the search for
-    # the rank still answers "forcible" with its string (``BudgetExceeded.stats``)
+    return _rank(model, ctx, order, group_size, bound, found, proj, t0)
+
+
+def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int, bound: PatternBound,
+          found: GreedyWitness | None, proj: Projections | None, t0: float) -> CCCResult:
+    """The A* for the rank and its witness (:func:`settled_ccc`).  Where ``found`` proved
+    "forcible", a budget that ends the relations or the A* gives that verdict, the string
+    and :class:`RankBounds` (``stats["rank_bounds"]``, ``rank`` None) instead of raising."""
+    _, start_cost = settle(model, tuple(model.inst.start), (0,) * model.inst.size)
+    if proj is not None:  # the A* keeps only states inside the sets: its bound may use them too
+        bound = within_sets(bound, proj)
+    search = _Search([], None if found is None else found.length - start_cost,
+                     lower=bound.value(tuple(model.inst.start)) or 0)
+    # a proved verdict travels with every later report too (the bench reads them from a killed run)
     proved = {} if found is None else {"forcible": True, "upper_bound": found.length, "witness": list(found.witness)}
-    if found is not None:  # the verdict is proved: say so before the search for the rank
-        ctx.check_budget("settled witness", **proved)
-    allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
-    search = _astar(graph, lambda stage, **info: check(stage, **info, **proved),
-                    None if found is None else found.length - graph.start_cost, allowed)
+    stats = {"route": "settled", "relations": 0, "upper_bound": None if found is None else found.length,
+             "greedy_expanded": None if found is None else found.expanded, "buckets": 0, "distance": None,
+             "max_layer_nodes": 0, "search_seconds": 0.0, "witness_seconds": 0.0}
+    try:
+        graph = SettledGraph(model, ctx, order, group_size, bound, report=proved)
+        ctx = graph.ctx
+        check = ThrottledCheck(ctx)
+        t1 = time.perf_counter()
+        stats.update(relations=len(graph.moves), build_seconds=round(t1 - t0, 4))
+        if found is not None:  # the verdict is proved: say so before the search for the rank
+            ctx.check_budget("settled witness", **proved)
+        allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
+        _astar(graph, lambda stage, **info: check(stage, **info, **proved), search, allowed)
+    except BudgetExceeded as exc:
+        if found is None:
+            raise
+        stats.setdefault("build_seconds", round(time.perf_counter() - t0, 4))
+        upper = found.length if search.found is None else min(found.length, start_cost + search.found)
+        stats.update(buckets=search.buckets, seconds=round(time.perf_counter() - t0, 4),
+                     rank_bounds=RankBounds(start_cost + search.lower, upper, exc.one_line()))
+        return CCCResult(True, list(found.witness), None, [], stats)
     t2 = time.perf_counter()
-    stats["buckets"] = search.buckets
-    stats.update(search_seconds=round(t2 - t1, 4), distance=search.found,
+    stats.update(buckets=search.buckets, search_seconds=round(t2 - t1, 4), distance=search.found,
                  max_layer_nodes=max((ctx.node_count(f) for f in search.layers), default=0))
     if search.found is None:
-        stats.update(witness_seconds=0.0, seconds=round(time.perf_counter() - t0, 4))
+        stats.update(seconds=round(time.perf_counter() - t0, 4))
         return CCCResult(False, [], None, [], stats)
     path = _witness(graph, _corridor(graph, search))
     stats.update(witness_seconds=round(time.perf_counter() - t2, 4), seconds=round(time.perf_counter() - t0, 4))

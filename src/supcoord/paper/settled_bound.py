@@ -50,6 +50,8 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..bdd.context import BDD, Context
@@ -114,13 +116,16 @@ class PatternBound:
                              f"{MAX_ENTRIES} entries", value=group_size, where="group_size")
         self.tables = [self._table(g) for g in self.groups]
 
-    def _table(self, group: list[int]) -> np.ndarray:
+    def _table(self, group: list[int], within: np.ndarray | None = None,
+               outside: Callable[[int, int], np.ndarray] | None = None) -> np.ndarray:
         """Least costs to the group's targets in the relaxed graph, a move costing one plus
         the collision events it leaves pending on the mover among the group and on the
         group's interior neighbours of the mover (module docstring), by Dial's algorithm
         backward (``x`` gets ``w + d(y)`` for every allowed move ``x → y`` of cost ``w``;
         the costs are 1 to 9, so the states of cost ``L`` are final when level ``L`` is
-        reached)."""
+        reached).  ``within``: the group's configurations kept (flat, None: all; a move
+        must leave and reach one); ``outside(a, sign)``: where the arms outside the group
+        let ``group[a]`` turn that way (flat, None: everywhere) — :mod:`.settled_sets_bound`."""
         model, n, k = self.model, self.model.inst.steps, len(group)
         grid = np.indices((n,) * k).reshape(k, -1)  # configurations, axis a = group[a]
         index = lambda cols: np.ravel_multi_index(tuple(cols), (n,) * k)  # noqa: E731
@@ -150,6 +155,10 @@ class PatternBound:
                         if not (priority[i] < priority[j] if sign > 0 else priority[i] > priority[j]):
                             ok &= ~model.zone[(i, j)][grid[a], grid[b]]
                         zone_after += model.zone[(i, j)][moved[a], grid[b]]
+                if outside is not None:
+                    ok &= outside(a, sign)
+                if within is not None:
+                    ok &= within & within[index(moved)]
                 cost = 1 + np.minimum(zone_after, 2)
                 for b in interior:  # k_j into an empty zone, e_j out of the last arm
                     if b != a and group[b] in model.neighbours[i]:

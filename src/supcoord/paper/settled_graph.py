@@ -29,7 +29,9 @@ References
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from ..bdd.context import BDD, Context, ThrottledCheck
 from ..des.generator import event_key
@@ -96,10 +98,13 @@ class SettledGraph:
     """The settled states of a coupled instance symbolically: ``pos{i}`` and ``stale{i}``
     per positioner (blocks in :func:`~.coupled.positioner_order`), one :class:`Move` per
     event and weight, the start ``settle(q0)`` and its ``D``, and the target.  The target
-    configuration must have no arm in another's safety zone (:func:`target_in_zone`)."""
+    configuration must have no arm in another's safety zone (:func:`target_in_zone`).
+    ``report``: more items for every progress report while the relations are built (the
+    verdict a checked forcing string proved, so that a run stopped there still says it)."""
 
     def __init__(self, model: CoupledModel, ctx: Context | None = None, order: str = "auto",
-                 group_size: int = GROUP_SIZE, bound: PatternBound | None = None) -> None:
+                 group_size: int = GROUP_SIZE, bound: PatternBound | None = None,
+                 report: Mapping[str, Any] | None = None) -> None:
         check_settled_route(model)
         self.model, self.inst = model, model.inst
         self.bound = bound if bound is not None else PatternBound(model, group_size)
@@ -118,7 +123,7 @@ class SettledGraph:
         self._identities: dict[tuple[str, ...], BDD] = {}
         check = ThrottledCheck(ctx)
         for i in range(size):
-            check("settled relations", positioner=i + 1, of=size)
+            check("settled relations", positioner=i + 1, of=size, **(report or {}))
             self._add_moves(i)
         self.moves = self._merged(self._raw)
         del self._raw

@@ -142,7 +142,13 @@ class _Refiner:
 
     def enabled(self, sets: list[np.ndarray], k: int, i: int, s: int) -> np.ndarray:
         """Where in ``groups[k]`` a step of ``P_i`` in direction ``s`` may be taken."""
-        model, group = self.model, self.groups[k]
+        return self.enabled_on(sets, self.groups[k], i, s)
+
+    def enabled_on(self, sets: list[np.ndarray], group: tuple[int, ...], i: int, s: int) -> np.ndarray:
+        """Where in ``group`` (any sorted group) a step of ``P_i`` in direction ``s`` may be
+        taken: allowed by ``i``'s neighbours in ``group`` and by some positions of the
+        others that ``i``'s home set admits (broadcast on ``group``'s axes)."""
+        model = self.model
         mask = np.ones((1,) * len(group), dtype=bool)
         for j in model.neighbours[i]:
             if j in group:
@@ -162,13 +168,18 @@ class _Refiner:
                 mask = mask & _project(e, home, group)
         return mask
 
+    def inside(self, sets: list[np.ndarray], group: tuple[int, ...], skip: int | None = None) -> np.ndarray:
+        """The projections onto ``group`` that every set but ``sets[skip]`` admits."""
+        inside = np.ones((self.n,) * len(group), dtype=bool)
+        for h, other in enumerate(self.groups):
+            if h != skip and set(other) & set(group):
+                inside &= _project(sets[h], other, group)
+        return inside
+
     def recompute(self, sets: list[np.ndarray], k: int) -> np.ndarray:
         """The projections onto ``groups[k]`` reached from the seed's by the group's moves."""
         group = self.groups[k]
-        inside = np.ones((self.n,) * len(group), dtype=bool)
-        for h, other in enumerate(self.groups):
-            if h != k and set(other) & set(group):
-                inside &= _project(sets[h], other, group)
+        inside = self.inside(sets, group, skip=k)
         steps = [(a, s, np.broadcast_to(self.enabled(sets, k, i, s), inside.shape))
                  for a, i in enumerate(group) for s in (1, -1)]
         reached = np.zeros_like(inside)
