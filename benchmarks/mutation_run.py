@@ -169,17 +169,18 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
     return {"seconds": seconds, "exit": code}
 
 
-def sample(t: Target, work: Path, children: int, limit: float, size: int, seed: int) -> dict:
+def sample(t: Target, work: Path, children: int, limit: float, size: int, seed: int, also: list[str] = ()) -> dict:
     """Check a uniform random sample of ``size`` of ``t``'s mutants (``random.Random(seed)``
     over their sorted names): the sampled mutants a run decided before keep their verdict,
-    the others are run.  The sample is kept in ``sample.json`` for :func:`report`."""
+    the others are run, with the mutants ``also`` names (in the same run: mutmut's clean run
+    of the tests is paid once).  The sample is kept in ``sample.json`` for :func:`report`."""
     st = statuses(t, work)
-    if st is None:  # generate the mutants and collect the tests' statistics, run none
+    if not st:  # generate the mutants and collect the tests' statistics, run none
         run(t, work, children, limit, [f"{NO_MUTANT}"])
         st = statuses(t, work) or {}
     names = sorted(random.Random(seed).sample(sorted(st), min(size, len(st))))
     (work / t.name / "sample.json").write_text(json.dumps({"seed": seed, "size": len(names), "names": names}) + "\n")
-    todo = [n for n in names if st[n] == "not checked"]
+    todo = [n for n in names if st[n] == "not checked"] + list(also)
     return run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
 
 
@@ -320,8 +321,8 @@ report's; their survivors' notes say which new test kills each class when applie
 """
 
 
-def _earlier(out: Path) -> dict[str, tuple[str, list[str]]]:
-    """``module -> (table row, detail lines)`` of the results file written before: a module whose
+def _earlier(out: Path) -> dict[str, tuple[list[str], list[str]]]:
+    """``module -> (table row's cells, detail lines)`` of the results file written before: a module whose
     run is not kept in ``--work`` (another machine, a cleaned temporary directory) keeps them."""
     if not out.exists():
         return {}
@@ -329,7 +330,7 @@ def _earlier(out: Path) -> dict[str, tuple[str, list[str]]]:
     for line in out.read_text().splitlines():
         cells = [c.strip() for c in line.split("|")]
         if line.startswith("| ") and len(cells) > 2 and cells[1] in BY_NAME and "not run" not in line:
-            rows[cells[1]] = line
+            rows[cells[1]] = cells[1:-1]
         if line.startswith("## "):
             name = line[3:].strip() if line[3:].strip() in BY_NAME else None
             if name:
@@ -354,15 +355,22 @@ def report(work: Path, out: Path) -> None:
              "a mutant is *killed* when a test fails or times out. *No tests*: the mutant is in a function none "
              "of the module's selected tests calls (listed per module below). *Equivalent* survivors behave "
              "exactly as the original (the reason is given for each). "
-             "Score = killed / (mutants − no tests − equivalent − not checked).", "",
-             "| module | files | mutants | killed | survived | equivalent | no tests | not checked | score | last run |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "*Full score* = killed / (mutants − no tests − equivalent), given only where every mutant was "
+             "decided (none *not checked*). Where a run stopped at its time limit, *checked so far* is the same "
+             "ratio over the mutants it decided (the first functions of the files, not a random choice), and "
+             "*sampled estimate* is the score of a uniform random sample of the module's mutants with its "
+             "Wilson 95 % interval (the second table).", "",
+             "| module | files | mutants | killed | survived | equivalent | no tests | not checked | full score "
+             "| checked so far | sampled estimate [95 % interval] | last run |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    estimates = _estimates(work, notes)
     details = []
     for t in TARGETS:
         st = statuses(t, work)
-        if st is None:
+        if not st:  # not run here, or stopped before mutmut listed its mutants
             row, kept = earlier.get(t.name, (None, []))
-            lines.append(row or f"| {t.name} | {', '.join(t.files)} | – | – | – | – | – | – | not run | – |")
+            lines.append(_row(t, row[2:8], row[-1], row[10] if len(row) == 12 else "") if row else
+                         f"| {t.name} | {', '.join(t.files)} | – | – | – | – | – | – | not run | – | – | – |")
             details += [_renote(line, notes.get(t.name, {})) for line in kept]
             continue
         meta = (work / t.name / "run.json").read_text() if (work / t.name / "run.json").exists() else "{}"
@@ -374,9 +382,8 @@ def report(work: Path, out: Path) -> None:
         unchecked = sum(counts.get(k, 0) for k in ("not checked", "check was interrupted by user", "skipped"))
         live = len(st) - len(equivalent) - unchecked - len(untested)
         killed = counts.get("killed", 0)
-        score = f"{100 * killed / live:.0f} %" if live else "–"
-        lines.append(f"| {t.name} | {', '.join(t.files)} | {len(st)} | {killed} | {len(survivors) - len(equivalent)} | "
-                     f"{len(equivalent)} | {len(untested)} | {unchecked} | {score} | {_short(meta)} |")
+        lines.append(_row(t, [str(x) for x in (len(st), killed, len(survivors) - len(equivalent), len(equivalent),
+                                               len(untested), unchecked)], _short(meta), estimates.get(t.name, "")))
         if survivors or untested:
             details += ["", f"## {t.name}", ""]
         if untested:
@@ -392,6 +399,32 @@ def report(work: Path, out: Path) -> None:
     print(text)
 
 
+def _row(t: Target, counts: list[str], last: str, estimate: str = "") -> str:
+    """A row of the main table from its counts (mutants, killed, survived, equivalent, no tests,
+    not checked): the full score only when nothing is *not checked*, else the partial ratio
+    labelled as such, and the sampled estimate when there is one."""
+    try:
+        total, killed, survived, equivalent, untested, unchecked = (int(x) for x in counts)
+    except ValueError:  # an earlier row without counts
+        return f"| {t.name} | {', '.join(t.files)} | {' | '.join(['–'] * 8)} | {estimate or '–'} | {last} |"
+    live = killed + survived
+    ratio = f"{100 * killed / live:.0f} %" if live else "–"
+    full, partial = (ratio, "–") if unchecked == 0 else ("– (partial run)", f"{ratio} of {live}")
+    estimate = "–" if estimate in ("", "–") else estimate
+    return (f"| {t.name} | {', '.join(t.files)} | {total} | {killed} | {survived} | {equivalent} | {untested} | "
+            f"{unchecked} | {full} | {partial} | {estimate} | {last} |")
+
+
+def _estimates(work: Path, notes: dict[str, dict[str, str]]) -> dict[str, str]:
+    """``module -> "score [interval] (n of N)"`` of the kept samples (:func:`_sampled`)."""
+    out = {}
+    for line in _sampled(work, notes):
+        cells = [c.strip() for c in line.split("|")]
+        if line.startswith("| ") and len(cells) > 2 and cells[1] in BY_NAME:
+            out[cells[1]] = f"{cells[8]} ({cells[2].split(' (')[0]})"
+    return out
+
+
 def _sampled(work: Path, notes: dict[str, dict[str, str]]) -> list[str]:
     """The table of the modules checked on a uniform random sample (``--sample``): the sample's
     score and its Wilson 95 % interval, an estimate of the module's score, not the score."""
@@ -399,7 +432,7 @@ def _sampled(work: Path, notes: dict[str, dict[str, str]]) -> list[str]:
     for t in TARGETS:
         f = work / t.name / "sample.json"
         st = statuses(t, work) if f.exists() else None
-        if st is None:
+        if not st:
             continue
         s = json.loads(f.read_text())
         got = {n: st.get(n, "not checked") for n in s["names"]}
@@ -464,12 +497,13 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("modules", nargs="*", help=f"modules to run: {', '.join(BY_NAME)}")
     ap.add_argument("--mutants", nargs="*", default=[],
-                    help="only these mutants (mutmut's names or patterns such as 'supcoord.problems.timing.*')")
+                    help="only these mutants (mutmut's names or patterns such as 'supcoord.problems.timing.*'); "
+                         "with --sample: these as well as the sample")
     ap.add_argument("--list", action="store_true", help="list the modules and their tests")
     ap.add_argument("--report", action="store_true", help=f"write {RESULTS.relative_to(ROOT)} from the kept runs")
     ap.add_argument("--show", metavar="MODULE", help="print the diff of every surviving mutant of MODULE")
     ap.add_argument("--work", type=Path, default=WORK, help="where the runs are kept")
-    ap.add_argument("--children", type=int, default=2, help="mutants run at once (default 2)")
+    ap.add_argument("--children", type=int, default=1, help="mutants run at once (default 1: the machine is shared)")
     ap.add_argument("--limit", type=float, default=1500, help="seconds per module (default 1500)")
     ap.add_argument("--out", type=Path, default=RESULTS)
     ap.add_argument("--sample", type=int, metavar="SIZE",
@@ -490,7 +524,7 @@ def main() -> int:
         return 0
     for name in args.modules:
         if args.sample:
-            r = sample(BY_NAME[name], args.work, args.children, args.limit, args.sample, args.seed)
+            r = sample(BY_NAME[name], args.work, args.children, args.limit, args.sample, args.seed, args.mutants)
         else:
             r = run(BY_NAME[name], args.work, args.children, args.limit, args.mutants)
         print(f"{name}: {r['seconds']:.0f} s, exit {r['exit']}", flush=True)
