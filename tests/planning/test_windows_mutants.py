@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from supcoord.errors import ModelError
+from supcoord.errors import InputError, ModelError
 from supcoord.planning.graph_order import conflict_components
 from supcoord.planning.model import CoordinationModel
 from supcoord.planning.windows import (
@@ -175,3 +175,69 @@ def test_every_descent_step_is_offered_to_the_budget():
     res = solve_local(p, model, Local(small_component=0))
     assert res.stats.descent_steps > 0
     assert stages.count("descent") >= res.stats.descent_steps + 1
+
+
+@pytest.mark.parametrize("field,bad,message", [
+    ("descent", "steepest", "unknown descent 'steepest' (use greedy or none)"),
+    ("direction", "sideways", "unknown direction 'sideways' (use easier, forward, reverse)")])
+def test_unknown_options_are_refused_naming_field_and_value(field, bad, message):
+    with pytest.raises(InputError) as info:
+        dataclasses.replace(Local(), **{field: bad}).check()
+    assert str(info.value) == f"{field}: {message}"
+    assert (info.value.value, info.value.where) == (bad, field)
+
+
+def test_window_counters_are_what_the_observer_and_the_model_see(monkeypatch):
+    """The few-displaced solves counted are those the observer saw; the relaxed checks are the
+    relaxed systems (no outsider frozen) built for windows of two members or more; the windows'
+    own managers held nodes."""
+    p = random_problem({"kind": "hex", "rings": 1, "pitch": 19.0}, ROT, 2.0, seed=5)
+    relaxed = []
+    system = CoordinationModel.system
+
+    def spy(self, members, frozen, **kw):
+        if frozen is None and len(members) > 1:
+            relaxed.append(list(members))
+        return system(self, members, frozen, **kw)
+
+    monkeypatch.setattr(CoordinationModel, "system", spy)
+    rec = _Windows()
+    res = solve_local(p, CoordinationModel(p), dataclasses.replace(FORCED, observer=rec))
+    assert len(rec.few) >= 2 and res.stats.windows_few_displaced == len(rec.few)
+    assert relaxed and res.stats.relaxed_checks == len(relaxed)
+    assert res.stats.window_peak_nodes > 0
+
+
+def test_singleton_windows_leave_the_windows_peak_at_zero():
+    """Windows of one robot run on the shared model, whose nodes are not the windows' own."""
+    p = random_problem(np.array(LAYOUTS["rot3"], float), ROT, 2.0, seed=2)
+    rec = _Record()
+    res = solve_local(p, CoordinationModel(p), Local(observer=rec, small_component=1))
+    assert rec.windows and all(o.members == [o.members[0]] for o in rec.windows if o.kind == "solved")
+    assert res.stats.largest_window == 1 and res.stats.window_peak_nodes == 0
+
+
+def test_the_descended_hook_sees_every_step():
+    p = random_problem(HEX, ROT, 2.0, seed=1)
+    seen = []
+
+    class Steps(WindowObserver):
+        def descended(self, steps):
+            seen.append(steps)
+
+    res = solve_local(p, CoordinationModel(p), Local(small_component=0, observer=Steps()))
+    assert seen and sum(len(s) for s in seen) == res.stats.descent_steps > 0
+    assert sum(len(step) for s in seen for step in s) == res.stats.descent_moves
+
+
+@pytest.mark.parametrize("name,seed", [(n, s) for n, s in _cases()])
+def test_an_infeasible_grown_window_says_how(name, seed):
+    p = random_problem(np.array(LAYOUTS[name], float), ROT, 2.0, seed=seed)
+    rec = _Record()
+    res = solve_local(p, CoordinationModel(p), Local(observer=rec, small_component=1))
+    if res.certificate is None:
+        return
+    last = rec.windows[-1]
+    assert last.how in (HOW, "exhaustive symbolic search of this relaxed subproblem",
+                        "their reachable configurations were computed exactly and no other positioner restricts them")
+    assert res.certificate.how == last.how
