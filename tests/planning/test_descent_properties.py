@@ -152,3 +152,20 @@ def test_motion_free_is_the_swept_check_of_the_two_robots_it_names(side):
     got = np.array([motion_free(p, 0, side, x[i], dx[i], y[i], None) for i in range(len(x))])
     assert not (got & ~free).any() and not (clear & ~got).any()
     assert 0 < clear.sum() and free.sum() < len(got)
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_the_descent_on_lazy_tables_is_the_descent_on_whole_tables(monkeypatch, seed):
+    """Entries decided as they are read (lazy tables) give the same descent, step for step,
+    as the whole tables built first."""
+    from supcoord.geometry import collision
+    from supcoord.problems.presets import preset_problem
+
+    whole = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5, seed=seed)
+    assert not whole.tables().lazy
+    monkeypatch.setattr(collision, "LAZY_TABLE_BYTES", 0)
+    lazy = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5, seed=seed)
+    assert lazy.tables().lazy
+    steps, end = descent(whole, whole.start)
+    got_steps, got_end = descent(lazy, lazy.start)
+    assert steps and got_steps == steps and np.array_equal(got_end, end)
