@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pytest
 
+from supcoord.des import flat_ops
 from supcoord.des.flat import from_generator
 from supcoord.des.generator import Event, Generator
 from supcoord.des.io.gen_file import read_gen
@@ -119,3 +120,19 @@ def test_flat_writer_writes_latin_1_as_the_reader_reads(tmp_path):
     write_gen_flat(from_generator(g), path)
     assert 'name="café"'.encode("latin-1") in path.read_bytes()
     assert read_gen(path).name == "café"
+
+
+def test_flat_writer_orders_large_generators_as_small_ones(tmp_path, monkeypatch):
+    """Beyond the successor table's size the transitions are sorted without it: by source
+    state, then event name (here ``b`` before ``c`` though ``c`` was declared first), the same
+    file as through the table."""
+    g = Generator(3, [Event("c", True), Event("b", False), Event("a", True)],
+                  [(2, "a", 0), (0, "c", 1), (0, "b", 2), (1, "c", 2), (0, "a", 0)], 0, [2])
+    small, large = tmp_path / "small.gen", tmp_path / "large.gen"
+    write_gen_flat(from_generator(g), small, names_in_transitions=False)
+    monkeypatch.setattr(flat_ops, "TABLE_CELLS", 0)
+    write_gen_flat(from_generator(g), large, names_in_transitions=False)
+    text = large.read_text(encoding="latin-1")
+    rows = text.split("<TransRel>")[1].split("</TransRel>")[0].split()
+    assert rows == "1 a 1 1 b 3 1 c 2 2 c 3 3 a 1".split()
+    assert text == small.read_text(encoding="latin-1")
