@@ -136,3 +136,12 @@ def test_flat_writer_orders_large_generators_as_small_ones(tmp_path, monkeypatch
     rows = text.split("<TransRel>")[1].split("</TransRel>")[0].split()
     assert rows == "1 a 1 1 b 3 1 c 2 2 c 3 3 a 1".split()
     assert text == small.read_text(encoding="latin-1")
+
+
+@pytest.mark.parametrize("states,trans,want", [
+    ("<Foo/> 1 2", "1 a 2", "line 3: unexpected <Foo> in <States>"),
+    ("1 2", "1 a <Foo/>", "line 5: incomplete transition before <Foo> in <TransRel>")])
+def test_a_stray_element_is_refused_at_its_line(tmp_path, states, trans, want):
+    text = (f'<Generator> "g"\n<Alphabet> a </Alphabet>\n<States> {states} </States>\n<TransRel>\n{trans}\n'
+            "</TransRel>\n<InitStates> 1 </InitStates>\n<MarkedStates> </MarkedStates>\n</Generator>\n")
+    assert [m for m, _ in _refusal(tmp_path, text)] == [want, want]
