@@ -125,3 +125,47 @@ def test_crowded_descent_steps_pass_the_validator(seed, buffer):
     whole = dataclasses.replace(p, target=end)
     assert validate_plan(whole, Plan("complete", confs)).valid  # every step as one simultaneous motion
 
+
+
+@pytest.mark.parametrize("side", [0, 1])
+def test_motion_free_is_the_swept_check_of_the_two_robots_it_names(side):
+    """Two robots of different arm lengths: ``motion_free`` of pair 0 with member ``side`` turning
+    and the other standing agrees with the exact swept check of one turn
+    (:func:`supcoord.geometry.motion.motion_collides`) of that member's arm, each robot with its
+    own kinematics, for every pose and turn: never free where the turn collides, and free
+    wherever it keeps ``tol`` more than the buffers (the certificate's documented slack)."""
+    from supcoord.geometry.kinematics import Rotary
+    from supcoord.geometry.motion import DEFAULT_TOL, motion_collides
+    from supcoord.planning.descent import motion_free
+
+    xy = [[0.0, 0.0], [19.0, 0.0]]
+    data = {"layout": {"kind": "points", "xy": xy}, "kinematics": ROT, "collision": {"buffer": 1.0},
+            "start": [0, 0], "target": [0, 0]}
+    p = dataclasses.replace(parse_problem(data, check_collisions=False),
+                            robot_kinematics=[Rotary(15.0, 12), Rotary(7.0, 12)])
+    a, b = (int(v) for v in p.pairs[0])
+    mover, other = (a, b) if side == 0 else (b, a)
+    x, dx, y, dy = (np.array(v).reshape(-1, 1) for v in zip(*[(x, dx, y, dy) for x in range(12) for dx in (-1, 1)
+                                                             for y in range(12) for dy in (0,)]))
+    free, clear = (~motion_collides(p.kin(mover), p.bases[mover], x, dx, p.kin(other), p.bases[other], y, dy,
+                                    p.buffers[a] + p.buffers[b] + extra) for extra in (0.0, DEFAULT_TOL))
+    got = np.array([motion_free(p, 0, side, x[i], dx[i], y[i], None) for i in range(len(x))])
+    assert not (got & ~free).any() and not (clear & ~got).any()
+    assert 0 < clear.sum() and free.sum() < len(got)
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_the_descent_on_lazy_tables_is_the_descent_on_whole_tables(monkeypatch, seed):
+    """Entries decided as they are read (lazy tables) give the same descent, step for step,
+    as the whole tables built first."""
+    from supcoord.geometry import collision
+    from supcoord.problems.presets import preset_problem
+
+    whole = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5, seed=seed)
+    assert not whole.tables().lazy
+    monkeypatch.setattr(collision, "LAZY_TABLE_BYTES", 0)
+    lazy = preset_problem("sdss-v", rings=1, alpha_steps=8, beta_steps=5, seed=seed)
+    assert lazy.tables().lazy
+    steps, end = descent(whole, whole.start)
+    got_steps, got_end = descent(lazy, lazy.start)
+    assert steps and got_steps == steps and np.array_equal(got_end, end)
