@@ -76,3 +76,56 @@ def test_sub_problems_run_one_descent_in_the_whole_problems_direction():
     assert plan.status == "partial" and plan.stats["direction"] in ("forward", "reverse")
     # both ways for the whole problem; one way for each sub-problem (both ways each: 2 + 2 per attempt)
     assert Count.descents < 2 * (1 + plan.stats["partial"]["attempts"])
+
+
+def test_a_lattice_finer_again_is_tried_where_the_first_puts_no_robot_back():
+    problem = parse_problem(TRIANGLE)
+    tried = []
+
+    def first(sub):  # the first finer lattice certifies both robots off target again
+        tried.append(("first", sorted(_off(problem, sub))))
+        return [0, 1], "finer"
+
+    def again(sub):  # the lattice finer again has a plan with robot 0 on target
+        tried.append(("again", sorted(_off(problem, sub))))
+        return _plan(sub, (36,)) if 1 in _off(problem, sub) else ([1, 2], "finer again")
+
+    r = partial_search(problem, [0], "coarse", _coarse(problem), finer=(first, again))
+    assert tried == [("first", []), ("again", []), ("again", [1])]
+    assert [e.robot for e in r.off_target] == [1] and r.on_target == 2 and r.plan.lattice == (36,)
+    assert r.stats.finer_put_back == [0] and r.stats.finer_attempts == 3
+    assert not r.optimal and r.on_target_bound == 3
+
+
+def test_the_lattice_finer_again_is_not_tried_where_the_first_puts_a_robot_back():
+    problem = parse_problem(TRIANGLE)
+
+    def first(sub):
+        return _plan(sub, (24,)) if 1 in _off(problem, sub) else ([1], "finer")
+
+    def again(sub):
+        raise AssertionError("the lattice finer again is not needed")
+
+    r = partial_search(problem, [0], "coarse", _coarse(problem), finer=[first, again])
+    assert r.stats.finer_put_back == [0] and r.plan.lattice == (24,)
+
+
+def test_the_planner_hands_step_4_the_finer_lattice_and_the_one_finer_again():
+    from types import SimpleNamespace
+
+    from supcoord.planning import planner
+    from supcoord.planning.solve_stats import Refined
+
+    ab = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7}
+    p = parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4}, "kinematics": ab,
+                       "collision": {"buffer": 1.0}, "start": [[0, 0]] * 7, "target": [[6, 6]] * 7})
+
+    def verdict(refined):
+        return SimpleNamespace(stats=SimpleNamespace(refined=refined))
+
+    attempts = planner._finer_attempt(p, verdict(Refined("infeasible", lattice=(18, 10))), None, None)
+    assert len(attempts) == 2  # 18 x 10, then 27 x 15
+    assert [c.cell_contents for a in attempts for c in a.__closure__ if isinstance(c.cell_contents, tuple)] \
+        == [(18, 10), (27, 15)]
+    for refined in (None, Refined("unknown", lattice=(18, 10)), Refined("not searched")):
+        assert planner._finer_attempt(p, verdict(refined), None, None) == ()

@@ -112,6 +112,7 @@ def test_finer_steps_and_the_problem_on_them():
     q = parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4}, "kinematics": ab,
                        "collision": {"buffer": 1.0}, "start": [[0, 0]] * 7, "target": [[6, 6]] * 7})
     assert finer_steps(q) == (18, 10)  # alpha wraps: 1.5 × 12 positions
+    assert finer_steps(q, (18, 10)) == (27, 15)  # the lattice finer again, for the same joints
     r = at_lattice(q, (18, 10))
     np.testing.assert_allclose(r.angles_deg(r.target), q.angles_deg(q.target), atol=1e-9)
     rotary = parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4},

@@ -438,21 +438,31 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
     return out
 
 
-def _finer_attempt(problem: Problem, verdict: Solved, quick: _Settings, budget: Budget) -> Callable | None:
+def _finer_attempt(problem: Problem, verdict: Solved, quick: _Settings, budget: Budget) -> tuple[Callable, ...]:
     """Step 4 of :mod:`.partial`: ``P(O)`` solved on the finer lattice where the whole problem
-    has a certificate there too (``stats.refined``); None where the finer lattice was not searched."""
+    has a certificate there too (``stats.refined``), then on the lattice finer again
+    (:func:`~supcoord.problems.refine.finer_steps` of it, where within the tables' bound);
+    none where the finer lattice was not searched."""
     refined = verdict.stats.refined
     if refined is None or refined.status != "infeasible" or not refined.lattice:
-        return None
-    steps = tuple(refined.lattice)
-    fine = at_lattice(problem, steps)
+        return ()
+    first = tuple(refined.lattice)
+    again = finer_steps(problem, first)
+    return tuple(_lattice_attempt(problem, steps, quick, budget) for steps in (first, again) if steps is not None)
+
+
+def _lattice_attempt(problem: Problem, steps: tuple[int, ...], quick: _Settings, budget: Budget) -> Callable:
+    """``P(O)`` solved on the lattice ``steps`` (the problem built there at the first call)."""
+    built: list[Problem] = []
 
     def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
+        if not built:
+            built.append(at_lattice(problem, steps))
         off = frozenset(int(r) for r in np.flatnonzero(np.any(sub.target != problem.target, axis=1)))
-        solved = _solve(reduced_problem(fine, off), quick, budget)
+        solved = _solve(reduced_problem(built[0], off), quick, budget)
         if solved.certificate is not None:
             return sorted(int(m) for m in solved.certificate.members), solved.certificate.how
-        solved.plan.lattice = steps
+        solved.plan.lattice = tuple(steps)
         return solved.plan
 
     return attempt

@@ -26,17 +26,19 @@ from .problem import Problem, parse_problem
 __all__ = ["finer_steps", "at_lattice"]
 
 
-def finer_steps(problem: Problem) -> tuple[int, int] | None:
+def finer_steps(problem: Problem, steps: Sequence[int] | None = None) -> tuple[int, int] | None:
     """The alpha-beta lattice with steps two-thirds as long as ``problem``'s (alpha ``A``
     positions → ``⌈1.5·A⌉`` where it wraps, ``⌈1.5·(A−1)⌉ + 1`` between hard stops; beta
-    likewise between its stops): 13 × 7 → 19 × 10.  None: not an alpha-beta problem, or the
+    likewise between its stops): 13 × 7 → 19 × 10; or as long as those of the lattice
+    ``steps`` of the same joints (19 × 10 → 28 × 15 on the SDSS-V woks).  None: not an alpha-beta problem, or the
     finer lattice would exceed the tables' bound (:data:`MAX_POSITIONS`)."""
     kin = problem.kinematics
     if kin.kind != "alpha-beta":
         return None
     alpha, beta = kin.joints
-    a = math.ceil(1.5 * alpha.steps) if alpha.wraps else math.ceil(1.5 * (alpha.steps - 1)) + 1
-    b = math.ceil(1.5 * (beta.steps - 1)) + 1
+    n_alpha, n_beta = (alpha.steps, beta.steps) if steps is None else (int(steps[0]), int(steps[1]))
+    a = math.ceil(1.5 * n_alpha) if alpha.wraps else math.ceil(1.5 * (n_alpha - 1)) + 1
+    b = math.ceil(1.5 * (n_beta - 1)) + 1
     return None if a * b > MAX_POSITIONS else (a, b)
 
 
