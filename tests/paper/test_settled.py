@@ -160,6 +160,7 @@ def _settled_edges(model: CoupledModel):
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("group_size", [1, 2, 3, 6])
+@pytest.mark.slow
 def test_the_pattern_bound_is_consistent_and_its_bdds_are_its_values(group_size):
     """h(y) ≤ w + h(y') on every edge, h = 0 on the target, finite wherever the target is
     reachable, and H[b] holds exactly the configurations of value b."""

@@ -66,6 +66,7 @@ def test_the_sets_exclude_what_the_plain_reachable_set_excludes_on_a_fixpoint():
 
 
 @pytest.mark.timeout(600)
+@pytest.mark.slow
 def test_the_search_on_configurations_finds_a_string_exactly_where_the_target_is_reachable():
     kinds = Counter()
     for model in _models(seed=11, count=15):

@@ -66,6 +66,7 @@ CASES = [("sdss-v", 1, 0, 9, 5), ("sdss-v", 1, 1, 9, 5)]
 
 
 @pytest.mark.timeout(300)  # about 3 s of CPU; the reference is slow by design
+@pytest.mark.slow
 def test_the_incremental_improvement_gives_the_plan_of_the_full_recomputation():
     remembered = improved = 0
     for name, rings, seed, a, b in CASES:

@@ -502,6 +502,7 @@ def test_improvement_shortens_a_known_plan():
 
 @pytest.mark.timeout(60)
 @pytest.mark.parametrize("name,seed", [("rot3", 0), ("rot4", 1), ("rot4", 2), ("ab3", 0), ("ab3", 3)])
+@pytest.mark.slow
 def test_few_displaced_windows_reach_what_the_explicit_twin_reaches(name, seed):
     """``displaced_at_most`` counts the members away from ``c``; the restricted system moves
     only through such configurations (explicit twin: the same breadth-first search, told to
@@ -651,6 +652,7 @@ def test_improvement_replans_two_neighbours_in_each_others_way_together(kind, se
 
 
 @pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.slow
 def test_a_plan_solved_the_other_way_is_the_mirror_of_the_exchanged_problems_plan(seed):
     """The windows solve whichever direction the descent finds easier (seed 0: target →
     start, seed 1: start → target, on SDSS-V robots unfolding from their folded lattice);

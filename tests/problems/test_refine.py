@@ -55,6 +55,7 @@ def _finer_data(data: dict) -> dict:
 
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize("seed", SOLVED)
+@pytest.mark.slow
 def test_a_single_move_certificate_gives_way_to_a_plan_on_the_finer_lattice(seed):
     data = _case(seed)
     p = parse_problem(data)

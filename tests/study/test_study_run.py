@@ -87,6 +87,7 @@ def ran(tmp_path_factory):
     return path, folder / "small.sqlite", json.loads(out), err
 
 
+@pytest.mark.slow
 def test_a_run_with_a_crashed_case_exits_1_with_one_line_naming_it(ran):
     *_, payload, err = ran
     last = err.strip().splitlines()[-1]
@@ -123,6 +124,7 @@ def test_progress_lines_count_done_failed_total_with_throughput_and_time_left(ra
     assert "finished after" in err.splitlines()[-2]
 
 
+@pytest.mark.slow
 def test_a_second_run_has_nothing_left_and_show_says_so(ran):
     path, db, _, _ = ran
     code, out, err = cli("study", "run", path, "--workers", "0", "--json")

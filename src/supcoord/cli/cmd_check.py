@@ -17,11 +17,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
-from ..problems.plan import load_plan
 from ..errors import InputError, SupcoordError
-from ..problems.problem import MAX_PROBLEM_BYTES, load_problem, read_json
-from ..problems.repair_phase import load_problem_any_start
-from ..problems.validate import RESOLUTION_RANGE, validate_plan
 from .cmd_solve import as_option, figure_suffix
 from .common import CommandResult, Console, add_problem_argument
 
@@ -75,6 +71,8 @@ PLAN_FIELDS = ("configurations", "angles_deg", "trajectories")
 
 
 def _peek(path: str) -> object:
+    from ..problems.problem import MAX_PROBLEM_BYTES, read_json
+
     try:
         return read_json(path, "problem", MAX_PROBLEM_BYTES)
     except SupcoordError:
@@ -83,6 +81,9 @@ def _peek(path: str) -> object:
 
 def _load_problem(problem_path: str, plan_path: str):
     """:func:`load_problem`, with a hint when the two files were given the other way round."""
+    from ..problems.problem import load_problem
+    from ..problems.repair_phase import load_problem_any_start
+
     try:
         return load_problem(problem_path)
     except InputError as exc:
@@ -100,6 +101,12 @@ def _load_problem(problem_path: str, plan_path: str):
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
+    # the problems stack (numpy, scipy) is imported here, not at the top: every command's
+    # parser imports this module, and `supcoord --help` or a mistyped option should not wait
+    # a second for it
+    from ..problems.plan import load_plan
+    from ..problems.validate import RESOLUTION_RANGE, validate_plan
+
     lo, hi = RESOLUTION_RANGE
     if not lo <= args.resolution <= hi:
         raise InputError(f"must be a number of mm in [{lo:g}, {hi:g}], got {args.resolution}",
@@ -140,7 +147,8 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
 
 def _run_jaeger(args: argparse.Namespace, console: Console) -> CommandResult:
     """``check PROBLEM --jaeger PATHS.json``: :func:`supcoord.problems.validate_jaeger.check_jaeger`."""
-    from ..errors import InputError
+    from ..problems.plan import load_plan
+    from ..problems.problem import load_problem
     from ..problems.validate_jaeger import check_jaeger
 
     if args.figure:

@@ -31,7 +31,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..errors import SupcoordError
 from .joint_space import Kinematics
@@ -77,6 +76,9 @@ def _far_bounds(sa: np.ndarray, sb: np.ndarray, threshold: float,
     ha = np.hypot(*(sa[:, 1] - sa[:, 0]).T) / 2
     hb = np.hypot(*(sb[:, 1] - sb[:, 0]).T) / 2
     radius = (float(ha.max()) + (threshold + _BOUND_SLACK) + float(hb.max())) * (1 + 1e-9) + 1e-9
+    from scipy.spatial import cKDTree  # imported here: 0.4 s of start-up that the commands
+    # which never search for neighbours (paper, supcon, force, their study cases) need not pay
+
     near = cKDTree(ma).sparse_distance_matrix(cKDTree(mb), radius, output_type="ndarray")
     i, j = near["i"].astype(np.int64), near["j"].astype(np.int64)
     ca, cb = segment_coords(sa), segment_coords(sb)

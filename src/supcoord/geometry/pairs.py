@@ -11,7 +11,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .fleet import robot_reaches, robot_segments
 from .kinematics import Kinematics
@@ -39,6 +38,9 @@ def neighbour_pairs(bases: Any, reach: Any, buffers: Any) -> np.ndarray:
     if n < 2:
         return np.zeros((0, 2), dtype=int)
     radius = 2 * float(grow.max()) * (1 + 1e-9) + 1e-9
+    from scipy.spatial import cKDTree  # imported here: 0.4 s of start-up that the commands
+    # which never search for neighbours (paper, supcon, force, their study cases) need not pay
+
     pairs = cKDTree(xy).query_pairs(radius, output_type="ndarray").astype(int).reshape(-1, 2)
     pairs.sort(axis=1)
     a, b = pairs[:, 0], pairs[:, 1]

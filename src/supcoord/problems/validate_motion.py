@@ -35,7 +35,6 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .validation_result import Incident
 
@@ -411,6 +410,9 @@ def _close_pairs(bases: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarra
     ``hypot(Δx, Δy) < limit`` decided here (memory and time grow with the pairs, not N²)."""
     if len(bases) < 2:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    from scipy.spatial import cKDTree  # imported here: 0.4 s of start-up that the commands
+    # which never search for neighbours (paper, supcon, force, their study cases) need not pay
+
     found = cKDTree(bases).query_pairs(limit * (1 + 1e-9) + 1e-12, output_type="ndarray").astype(np.int64)
     a, b = found.min(axis=1), found.max(axis=1)
     keep = np.hypot(*(bases[a] - bases[b]).T) < limit
