@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from .chain import chain_segment_rows
 from .kinematics import AlphaBeta, Kinematics, Rotary
 from .segments import segment_coords, segment_distance_xy
 from .sweep import rotation_clearance
@@ -183,11 +184,11 @@ class _Moving:
 
     :meth:`coords` places its colliding segment at fractions ``t`` of some entries' motions as
     the four coordinate rows of :func:`.segments.segment_distance_xy`: for the chain robots
-    (alpha-beta, rotary) it evaluates :func:`.chain.chain_segments`' formula on contiguous
-    one-dimensional arrays, the same operations in the same order, so the same numbers bit for
-    bit as ``segment_coords(placed_segments(kin, base[i], q[i] + t·d[i]))``, without the
-    interleaved ``(n, 2, 2)`` arrays whose length-2 inner loops cost most of that; any other
-    kinematics goes through :func:`placed_segments`.
+    (alpha-beta, rotary) it takes :func:`.chain.chain_segment_rows` (the formula on contiguous
+    one-dimensional arrays) and adds the base: the same numbers bit for bit as
+    ``segment_coords(placed_segments(kin, base[i], q[i] + t·d[i]))``, without the interleaved
+    ``(n, 2, 2)`` arrays whose length-2 inner loops cost most of that; any other kinematics
+    goes through :func:`placed_segments`.
     """
 
     def __init__(self, kin: Kinematics, base: np.ndarray, q: np.ndarray, d: np.ndarray):
@@ -203,12 +204,8 @@ class _Moving:
             q[joint] = qj[i] + t * dj[i]
         if self.chain is None:
             return tuple(segment_coords(placed_segments(self.kin, self.base[i], q.T)))
-        a, b = self.kin.chain_angles(q.T)
-        l1, ((x0, y0), (x1, y1)) = self.chain
-        ex, ey = l1 * np.cos(a), l1 * np.sin(a)
-        ab = a + b
-        c, s = np.cos(ab), np.sin(ab)
+        l1, segment = self.chain
+        px, py, qx, qy = chain_segment_rows(l1, segment, *self.kin.chain_angles(q.T))
         bx, by = self.bx[i], self.by[i]
-        return (ex + (x0 * c - y0 * s) + bx, ey + (x0 * s + y0 * c) + by,
-                ex + (x1 * c - y1 * s) + bx, ey + (x1 * s + y1 * c) + by)
+        return px + bx, py + by, qx + bx, qy + by
 
