@@ -35,7 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..bdd.context import BDD, Budget, Context
-from ..geometry.collision import motion_collides
+from ..geometry.collision import prefiltered_motion_collides
 from ..problems.problem import Problem
 from .graph_order import cutwidth_order
 from .caches import caches_for
@@ -62,10 +62,15 @@ def _free_table(problem: Problem, k: int, options: list[np.ndarray], valid: np.n
     opts = np.array(options)
     vv, ii, jj = (g.ravel() for g in np.meshgrid(np.arange(len(options)), np.arange(n), np.arange(n), indexing="ij"))
     out = np.zeros((len(options), len(options), n, n), dtype=bool)
+    nxt = successor_table(kin, options)
+    distances = problem.tables().distance_view(k)  # [position of a, position of b]
     for u, du in enumerate(options):  # one call per move of a: every move of b, every pair of positions
         sel = np.nonzero(valid[u][ii] & valid[vv, jj])[0]
-        hit = motion_collides(problem.kin(a), (0.0, 0.0), pos[ii[sel]], du, problem.kin(b), off, pos[jj[sel]],
-                              opts[vv[sel]], problem.buffers[a] + problem.buffers[b])
+        # the end-point distances settle most entries (a collision at an end, or clear by the
+        # motions' sweep lengths); the others are sampled as motion_collides samples them
+        hit = prefiltered_motion_collides(problem.kin(a), (0.0, 0.0), pos, ii[sel], nxt[u, ii[sel]], du,
+                                          problem.kin(b), off, jj[sel], nxt[vv[sel], jj[sel]], opts[vv[sel]],
+                                          float(problem.buffers[a] + problem.buffers[b]), distances)
         flat = np.zeros(len(options) * n * n, dtype=bool)
         flat[sel] = ~hit
         out[u] = flat.reshape(len(options), n, n)
