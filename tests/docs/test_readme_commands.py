@@ -45,6 +45,10 @@ STATUS = {}
 #: it to this block), so its plan must be complete and check valid with every robot at target
 PRINTS = {"docs/instruments.md": (r"VALID: \d+ steps, 0 collisions, 500/500 positioners at target",
                                   "apo_plan.json", "complete")}
+#: studies that a file's blocks run as written, each the one place in the suite that runs it
+#: (test_examples_smoke.py leaves it to this block): after the blocks every case of its results
+#: database must be ``ok``
+STUDIES = {"docs/study.md": "docs/examples/study_small.sqlite"}
 #: what a clean run never prints on standard error (as tests/docs/test_examples_smoke.py)
 NOISE = ("Traceback", "Warning", "warning:", "Exception ignored")
 
@@ -145,6 +149,11 @@ def test_doc_blocks_run_as_written(clone, name):
         import json
 
         assert json.loads((cwd / plan_file).read_text())["status"] == status
+    if name in STUDIES:
+        from supcoord.study import results_rows
+
+        rows = results_rows(cwd / STUDIES[name])
+        assert rows and {row["status"] for row in rows} == {"ok"}, [(r["series"], r["status"]) for r in rows]
 
 
 @pytest.mark.slow
