@@ -213,15 +213,56 @@ class PatternBound:
             total += d
         return total
 
-    def partitions(self, ctx: Context, var: callable) -> list[BDD]:
-        """``H[b] = {x : h(x) = b}`` over the position variables ``var(i)``."""
+    def partitions(self, ctx: Context, var: callable, cap: int | None = None,
+                   check: Callable[[], None] | None = None) -> list[BDD]:
+        """``H[b] = {x : h(x) = b}`` over the position variables ``var(i)``, for ``b ≤ cap``.
+
+        Parameters
+        ----------
+        ctx : Context
+            Where the BDDs are built.
+        var : callable
+            ``var(i)``: the name of positioner ``i``'s position variable.
+        cap : int, optional
+            Largest ``b`` kept (None: every finite value).  Each group adds a nonnegative
+            ``d_P``, so a partial sum above ``cap`` is dropped as soon as it appears: where a
+            forcing string bounds the distance, the A* never expands a state of larger ``h``.
+        check : callable, optional
+            Called before each group's value sets and each product term (a budget check may
+            raise there).
+
+        Returns
+        -------
+        list of BDD
+            ``H[0], …, H[m]`` with ``m`` the largest value kept (at most ``cap``).
+
+        Examples
+        --------
+        >>> from supcoord.paper.run import coupled_instance
+        >>> model = CoupledModel(coupled_instance(3, 8, 0))
+        >>> ctx, bound = Context(), PatternBound(model)
+        >>> for i in range(3):
+        ...     _ = ctx.add_variable(f"p{i}", 8)
+        >>> full = bound.partitions(ctx, lambda i: f"p{i}")
+        >>> capped = bound.partitions(ctx, lambda i: f"p{i}", cap=3)
+        >>> len(capped), capped == full[:4], len(full) > 4
+        (4, True, True)
+        """
+        tick = check or (lambda: None)
+        limit = float("inf") if cap is None else cap
         exact = {0: ctx.true}
         for group, table in zip(self.groups, self.tables):
-            by_value = {int(v): _array_bdd(ctx, table == v, [var(i) for i in group])
-                        for v in np.unique(table) if v != UNREACHABLE}
+            by_value = {}
+            for v in np.unique(table):
+                if v != UNREACHABLE and v <= limit:
+                    tick()
+                    by_value[int(v)] = _array_bdd(ctx, table == v, [var(i) for i in group])
             nxt: dict[int, BDD] = {}
             for a, u in exact.items():
+                tick()
                 for d, v in by_value.items():
+                    if a + d > limit:
+                        continue
                     w = u & v
                     if w != ctx.false:
                         nxt[a + d] = nxt.get(a + d, ctx.false) | w
