@@ -147,7 +147,7 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
     limit : int
         Settled states expanded at most.
     check : callable, optional
-        Called every :data:`CHECK_EVERY` expansions (a budget check may raise there).
+        Called at the first expansion and every :data:`CHECK_EVERY` after (a budget check may raise there).
 
     Returns
     -------
@@ -189,7 +189,7 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
             witness = _string(model, moves[::-1])
             return GreedyWitness(tuple(witness), replay(model, witness), expanded)
         expanded += 1
-        if check is not None and expanded % CHECK_EVERY == 0:
+        if check is not None and expanded % CHECK_EVERY == 1:
             check()
         for name, z in successor_events(model, y, controllable=True):
             lv, d = settle(model, *z)
@@ -243,7 +243,7 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     limit : int
         Configurations expanded at most.
     check : callable, optional
-        Called every :data:`CHECK_EVERY` expansions (a budget check may raise there).
+        Called at the first expansion and every :data:`CHECK_EVERY` after (a budget check may raise there).
 
     Returns
     -------
@@ -285,7 +285,7 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
             witness = _moves_string(model, moves[::-1])
             return GreedyWitness(tuple(witness), replay(model, witness), expanded)
         expanded += 1
-        if check is not None and expanded % CHECK_EVERY == 0:
+        if check is not None and expanded % CHECK_EVERY == 1:
             check()
         for i in range(size):
             for s in (1, -1):
