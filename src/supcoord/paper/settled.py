@@ -79,7 +79,6 @@ References
 from __future__ import annotations
 
 import heapq
-import itertools
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -149,8 +148,8 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
     ``search``: filled in as the search goes; its ``found`` on entry is the weight of a
-    known path to ``T`` (a checked witness), or None: then ``h`` is built only up to it, and
-    states of larger ``h`` are dropped (their ``f`` exceeds a known distance).
+    known path to ``T`` (a checked witness), or None.  ``h``'s partition is built as the
+    sweeps need it: up to ``f`` (and never above a known distance).
     ``allowed``: the states kept (None: all); every state outside it must have no path to ``T``.
     ``check(stage, **info)`` is called before each bucket, ``check_bound`` (default ``check``)
     while ``h``'s partition is built.
@@ -160,11 +159,10 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
     tentative distance ``g``, pruned lazily against the expanded ones."""
     ctx = graph.ctx
     false = ctx.false
-    cap = search.found  # a known path bounds every f expanded, so every h kept
-    exact = graph.distance_exact(cap, lambda: (check_bound or check)("settled bound", cap=cap))
-    at_most = list(itertools.accumulate(exact, lambda a, b: a | b))
-    if cap is not None:  # a state of h > cap has f > cap: never expanded, never kept
-        allowed = at_most[-1] if allowed is None else allowed & at_most[-1]
+    cap = search.found  # a known path bounds every f expanded, so every h used
+    part = graph.h_partition(lambda: (check_bound or check)("settled bound", cap=cap))
+    exact: list[BDD] = []
+    at_most: list[BDD] = []  # at_most[b]: h ≤ b
     open_: dict[int, BDD] = {0: graph.start}
     closed, layers = false, search.layers
     layers.append(false)
@@ -177,6 +175,9 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
         if best is not None and f > best:
             break
         search.lower = f  # dist(T) < f would have put T into a sweep already finished
+        exact = part.upto(f if cap is None else min(f, cap))  # a sweep of f reads h ≤ f only
+        for b in range(len(at_most), len(exact)):
+            at_most.append(exact[b] if b == 0 else at_most[-1] | exact[b])
         for g in list(open_):
             open_[g] &= ~closed
             if open_[g] == false:

@@ -40,7 +40,7 @@ from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
 from .events import positioner_events
 from .literal import ring_step
-from .settled_bound import GROUP_SIZE, PatternBound
+from .settled_bound import GROUP_SIZE, HPartition, PatternBound
 
 __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route", "successor_events"]
 
@@ -280,6 +280,10 @@ class SettledGraph:
         """``H[b]``: the states whose lower bound ``h`` (:mod:`.settled_bound`) is ``b``, for
         ``b ≤ cap`` (None: all); ``check`` is called between the pieces (a budget may raise)."""
         return self.bound.partitions(self.ctx, self.pos, cap, check)
+
+    def h_partition(self, check: Callable[[], None] | None = None) -> HPartition:
+        """``H[b]`` built on demand (:class:`~.settled_bound.HPartition`); ``check`` as there."""
+        return HPartition(self.bound, self.ctx, self.pos, check)
 
     def heuristic(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where even the relaxation cannot reach the target."""
