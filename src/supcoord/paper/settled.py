@@ -176,8 +176,7 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
             break
         search.lower = f  # dist(T) < f would have put T into a sweep already finished
         exact = part.upto(f if cap is None else min(f, cap))  # a sweep of f reads h ≤ f only
-        for b in range(len(at_most), len(exact)):
-            at_most.append(exact[b] if b == 0 else at_most[-1] | exact[b])
+        _unions(at_most, exact)
         for g in list(open_):
             open_[g] &= ~closed
             if open_[g] == false:
@@ -198,10 +197,7 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
             while len(layers) <= g:
                 layers.append(false)
             layers[g] |= x
-            reached: dict[int, BDD] = {}
-            for move in graph.moves:
-                check("settled", f=f, g=g, best=best)  # throttled: a bucket's images take seconds at 19
-                reached[move.weight] = reached.get(move.weight, false) | graph.post(move, x)
+            reached = _successors(graph, x, lambda: check("settled", f=f, g=g, best=best))
             fresh = ~closed if allowed is None else allowed & ~closed
             for w, y in reached.items():
                 y &= fresh
@@ -215,6 +211,22 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
         f += 1
     search.found = best
     return search
+
+
+def _unions(at_most: list[BDD], exact: list[BDD]) -> None:
+    """Extend ``at_most`` to ``at_most[b] = exact[0] ∨ … ∨ exact[b]`` for every ``b`` of ``exact``."""
+    for b in range(len(at_most), len(exact)):
+        at_most.append(exact[b] if b == 0 else at_most[-1] | exact[b])
+
+
+def _successors(graph: SettledGraph, x: BDD, check: Callable[[], None]) -> dict[int, BDD]:
+    """``{w: states one edge of weight w from x}``; ``check()`` before each image (a
+    bucket's images take seconds at 19 positioners)."""
+    reached: dict[int, BDD] = {}
+    for move in graph.moves:
+        check()
+        reached[move.weight] = reached.get(move.weight, graph.ctx.false) | graph.post(move, x)
+    return reached
 
 
 def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
