@@ -79,13 +79,12 @@ References
 from __future__ import annotations
 
 import heapq
-import itertools
 import time
 from dataclasses import dataclass
 from typing import Callable
 
 from ..bdd.context import BDD, Context, ThrottledCheck
-from ..errors import BudgetExceeded, ModelError
+from ..errors import BudgetExceeded, InputError, ModelError
 from ..synthesis.ccc import CCCResult
 from .coupled import CoupledModel
 from .settled_bound import CERTIFICATE_SIZE, GROUP_SIZE, PatternBound
@@ -94,7 +93,14 @@ from .settled_refine import Projections, proj_bdd, refine
 from .settled_sets_bound import within_sets
 from .settled_witness import GREEDY_LIMIT, GreedyWitness, greedy_witness, position_witness
 
-__all__ = ["SettledGraph", "RankBounds", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive", "refined_answer"]
+__all__ = ["RANK_CPU", "SettledGraph", "RankBounds", "settle", "target_in_zone", "settled_ccc", "settled_ccc_naive",
+           "refined_answer"]
+
+#: CPU seconds (of the calling process, from the call of :func:`settled_ccc`) after which the
+#: search for the rank stops once a checked forcing string has proved "forcible": the answer
+#: is then the verdict, the string and :class:`RankBounds`.  At 19 positioners the seeds 0-9
+#: answer within a minute of CPU with it (``benchmarks/results/coupled_19_seeds.md``)
+RANK_CPU = 50.0
 
 
 @dataclass(frozen=True)
@@ -136,21 +142,27 @@ class _Search:
     lower: int = 0  # dist(T) >= lower: every state of f < lower was expanded without meeting T
 
 
-def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, allowed: BDD | None = None) -> _Search:
+def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, allowed: BDD | None = None,
+           check_bound: Callable[..., None] | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
     ``search``: filled in as the search goes; its ``found`` on entry is the weight of a
-    known path to ``T`` (a checked witness), or None.
+    known path to ``T`` (a checked witness), or None.  ``h``'s partition is built as the
+    sweeps need it: up to ``f`` (and never above a known distance).
     ``allowed``: the states kept (None: all); every state outside it must have no path to ``T``.
+    ``check(stage, **info)`` is called before each bucket, ``check_bound`` (default ``check``)
+    while ``h``'s partition is built.
 
     ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
     state is first expanded at its distance; ``open_[g]`` holds the states generated at
     tentative distance ``g``, pruned lazily against the expanded ones."""
     ctx = graph.ctx
     false = ctx.false
-    exact = graph.distance_exact()
-    at_most = list(itertools.accumulate(exact, lambda a, b: a | b))
+    cap = search.found  # a known path bounds every f expanded, so every h used
+    part = graph.h_partition(lambda: (check_bound or check)("settled bound", cap=cap))
+    exact: list[BDD] = []
+    at_most: list[BDD] = []  # at_most[b]: h ≤ b
     open_: dict[int, BDD] = {0: graph.start}
     closed, layers = false, search.layers
     layers.append(false)
@@ -163,6 +175,8 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
         if best is not None and f > best:
             break
         search.lower = f  # dist(T) < f would have put T into a sweep already finished
+        exact = part.upto(f if cap is None else min(f, cap))  # a sweep of f reads h ≤ f only
+        _unions(at_most, exact)
         for g in list(open_):
             open_[g] &= ~closed
             if open_[g] == false:
@@ -183,9 +197,7 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
             while len(layers) <= g:
                 layers.append(false)
             layers[g] |= x
-            reached: dict[int, BDD] = {}
-            for move in graph.moves:
-                reached[move.weight] = reached.get(move.weight, false) | graph.post(move, x)
+            reached = _successors(graph, x, lambda: check("settled", f=f, g=g, best=best))
             fresh = ~closed if allowed is None else allowed & ~closed
             for w, y in reached.items():
                 y &= fresh
@@ -199,6 +211,22 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
         f += 1
     search.found = best
     return search
+
+
+def _unions(at_most: list[BDD], exact: list[BDD]) -> None:
+    """Extend ``at_most`` to ``at_most[b] = exact[0] ∨ … ∨ exact[b]`` for every ``b`` of ``exact``."""
+    for b in range(len(at_most), len(exact)):
+        at_most.append(exact[b] if b == 0 else at_most[-1] | exact[b])
+
+
+def _successors(graph: SettledGraph, x: BDD, check: Callable[[], None]) -> dict[int, BDD]:
+    """``{w: states one edge of weight w from x}``; ``check()`` before each image (a
+    bucket's images take seconds at 19 positioners)."""
+    reached: dict[int, BDD] = {}
+    for move in graph.moves:
+        check()
+        reached[move.weight] = reached.get(move.weight, graph.ctx.false) | graph.post(move, x)
+    return reached
 
 
 def _corridor(graph: SettledGraph, search: _Search) -> list[BDD]:
@@ -271,7 +299,8 @@ def refined_answer(model: CoupledModel, bound: PatternBound,
     bound : PatternBound
         The bound ordering the searches.
     ctx : Context, optional
-        Its budget is checked before each group's recomputation.
+        Its budget is checked (stage ``"settled refinement"``, at most every 0.2 s) before each
+        group's recomputation and while the configurations are searched.
 
     Returns
     -------
@@ -287,22 +316,27 @@ def refined_answer(model: CoupledModel, bound: PatternBound,
     >>> proj.excluded, found.length
     (None, 8)
     """
-    check = None if ctx is None else (lambda: ctx.check_budget("settled refinement"))
+    check = None if ctx is None else _ticker(ThrottledCheck(ctx), "settled refinement")
     back = refine(model, forward=False, check=check)
     if back.excluded is not None:
         return back, None
-    found = position_witness(model, bound, back.admits)
+    found = position_witness(model, bound, back.admits, check=check)
     if found is not None:
         return back, found
     both = refine(model, forward=True, within=back, check=check)
     if both.excluded is not None:
         return both, None
-    return both, position_witness(model, bound, both.admits)
+    return both, position_witness(model, bound, both.admits, check=check)
+
+
+def _ticker(check: ThrottledCheck, stage: str) -> Callable[[], None]:
+    """``check(stage)`` as a call without arguments, for the explicit searches."""
+    return lambda: check(stage)
 
 
 def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str = "auto",
                 group_size: int = GROUP_SIZE, certificate_size: int = CERTIFICATE_SIZE,
-                greedy_limit: int = GREEDY_LIMIT) -> CCCResult:
+                greedy_limit: int = GREEDY_LIMIT, rank_cpu: float | None = RANK_CPU) -> CCCResult:
     """CCC of the coupled model under preemptive semantics on its settled states (module
     docstring): the verdict, ``rank(q0)`` and the witness that :func:`~supcoord.synthesis.ccc`
     returns on ``V``.  ``stats``: seconds (``build``, ``search``, ``witness``), the bounds
@@ -320,14 +354,21 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
     later report (relations and A*) carries ``forcible``, ``upper_bound`` and ``witness``,
     and a budget that ends the search for the rank returns the proved verdict with that
     string, ``rank`` None and ``stats["rank_bounds"]`` (:class:`RankBounds`: the rank
-    bounded, not proved minimal) instead of raising.
+    bounded, not proved minimal) instead of raising.  ``rank_cpu`` (CPU seconds of this
+    process from the call, default :data:`RANK_CPU`; None: no limit) is such a budget, applied
+    only once a string has proved the verdict: the search for the rank then stops at the
+    first report past it.
     When the greedy search finds none, :func:`refined_answer` either proves "not forcible"
     (``stats["blocked_group"]``: the group whose set excludes the start or the target,
     ``stats["refinement"]`` the direction, ``stats["certificate"]`` says how) or searches configurations inside its sets, and the
     A* keeps only states inside them, its bound restricted to them too
     (:mod:`.settled_sets_bound`).
     Otherwise a ``ctx`` with a budget raises :class:`~supcoord.errors.BudgetExceeded` when it runs out."""
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    if rank_cpu is not None and (isinstance(rank_cpu, bool) or not isinstance(rank_cpu, (int, float))
+                                 or not 0 < rank_cpu < float("inf")):
+        raise InputError(f"rank_cpu must be a positive number of seconds or None, got {rank_cpu!r}",
+                         value=rank_cpu, where="rank_cpu")
     check_settled_route(model)
     start = tuple(model.inst.start)
     if start == tuple(model.inst.target):
@@ -343,7 +384,8 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
             "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None, "max_layer_nodes": 0,
             "blocked_group": [i + 1 for i in group], "certificate": _blocked_text(group),
             "seconds": round(time.perf_counter() - t0, 4)})
-    found, proj = greedy_witness(model, bound, greedy_limit), None
+    tick = None if ctx is None else _ticker(ThrottledCheck(ctx), "settled witness")
+    found, proj = greedy_witness(model, bound, greedy_limit, check=tick), None
     if found is None:
         proj, found = refined_answer(model, bound, ctx)
         if proj.excluded is not None:
@@ -352,7 +394,31 @@ def settled_ccc(model: CoupledModel, ctx: Context | None = None, *, order: str =
                 "search_seconds": 0.0, "witness_seconds": 0.0, "buckets": 0, "distance": None,
                 "max_layer_nodes": 0, "blocked_group": [i + 1 for i in proj.excluded],
                 "refinement": "forward" if proj.forward else "backward", "certificate": _refined_text(proj), "seconds": round(time.perf_counter() - t0, 4)})
-    return _rank(model, ctx, order, group_size, bound, found, proj, t0)
+    if found is None or rank_cpu is None:
+        return _rank(model, ctx, order, group_size, bound, found, proj, t0)
+    ctx = ctx or Context()
+    reported = ctx.progress
+    ctx.progress = _rank_allowance(reported, cpu0 + rank_cpu, rank_cpu)
+    try:
+        return _rank(model, ctx, order, group_size, bound, found, proj, t0)
+    finally:
+        ctx.progress = reported
+
+
+def _rank_allowance(reported: Callable[[str, dict], None] | None, deadline: float,
+                    seconds: float) -> Callable[[str, dict], None]:
+    """A progress callback: ``reported``'s, then the end of the budget past ``deadline``
+    (process CPU seconds), so that the reports of the relations and the A* stop the search
+    for the rank there."""
+
+    def progress(stage: str, info: dict) -> None:
+        if reported is not None:
+            reported(stage, info)
+        if time.process_time() > deadline:
+            raise BudgetExceeded(f"the rank's CPU allowance of {seconds:g} s ran out in {stage}",
+                                 stats={"stage": stage, **info}, value=seconds)
+
+    return progress
 
 
 def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int, bound: PatternBound,
@@ -379,7 +445,9 @@ def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int,
         if found is not None:  # the verdict is proved: say so before the search for the rank
             ctx.check_budget("settled witness", **proved)
         allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
-        _astar(graph, lambda stage, **info: check(stage, **info, **proved), search, allowed)
+        check_bound = ThrottledCheck(ctx)
+        _astar(graph, lambda stage, **info: check(stage, **info, **proved), search, allowed,
+               lambda stage, **info: check_bound(stage, **info, **proved))
     except BudgetExceeded as exc:
         if found is None:
             raise

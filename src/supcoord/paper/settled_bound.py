@@ -58,7 +58,7 @@ from ..bdd.context import BDD, Context
 from ..errors import InputError
 from .coupled import CoupledModel
 
-__all__ = ["GROUP_SIZE", "CERTIFICATE_SIZE", "grown_group", "neighbour_groups", "PatternBound"]
+__all__ = ["GROUP_SIZE", "CERTIFICATE_SIZE", "grown_group", "neighbour_groups", "PatternBound", "HPartition"]
 
 #: positioners per group: a database holds ``steps ** GROUP_SIZE`` distances (262,144 at
 #: 8 steps); larger groups give a tighter bound (more interior positioners) for more table.
@@ -213,20 +213,98 @@ class PatternBound:
             total += d
         return total
 
-    def partitions(self, ctx: Context, var: callable) -> list[BDD]:
-        """``H[b] = {x : h(x) = b}`` over the position variables ``var(i)``."""
-        exact = {0: ctx.true}
-        for group, table in zip(self.groups, self.tables):
-            by_value = {int(v): _array_bdd(ctx, table == v, [var(i) for i in group])
-                        for v in np.unique(table) if v != UNREACHABLE}
-            nxt: dict[int, BDD] = {}
-            for a, u in exact.items():
-                for d, v in by_value.items():
-                    w = u & v
-                    if w != ctx.false:
-                        nxt[a + d] = nxt.get(a + d, ctx.false) | w
-            exact = nxt
-        return [exact.get(b, ctx.false) for b in range(max(exact, default=0) + 1)]
+    def partitions(self, ctx: Context, var: callable, cap: int | None = None,
+                   check: Callable[[], None] | None = None) -> list[BDD]:
+        """``H[b] = {x : h(x) = b}`` over the position variables ``var(i)``, for ``b ≤ cap``.
+
+        Parameters
+        ----------
+        ctx : Context
+            Where the BDDs are built.
+        var : callable
+            ``var(i)``: the name of positioner ``i``'s position variable.
+        cap : int, optional
+            Largest ``b`` kept (None: every finite value).
+        check : callable, optional
+            Called before each BDD of a group's values and each sum built (a budget check
+            may raise there).
+
+        Returns
+        -------
+        list of BDD
+            ``H[0], …, H[m]``, ``m`` the largest finite value of ``h`` or ``cap``,
+            whichever is smaller.
+
+        Examples
+        --------
+        >>> from supcoord.paper.run import coupled_instance
+        >>> model = CoupledModel(coupled_instance(3, 8, 0))
+        >>> ctx, bound = Context(), PatternBound(model)
+        >>> for i in range(3):
+        ...     _ = ctx.add_variable(f"p{i}", 8)
+        >>> full = bound.partitions(ctx, lambda i: f"p{i}")
+        >>> capped = bound.partitions(ctx, lambda i: f"p{i}", cap=3)
+        >>> len(capped), capped == full[:4], len(full) > 4
+        (4, True, True)
+        """
+        top = sum(int(t[t != UNREACHABLE].max(initial=0)) for t in self.tables)
+        return HPartition(self, ctx, var, check).upto(top if cap is None else min(cap, top))
+
+
+class HPartition:
+    """``H[b] = {x : h(x) = b}`` as BDDs, built on demand in increasing ``b``: the A* at a
+    sweep ``f`` needs only ``b ≤ f``.  With groups ``P_1, …, P_m`` and ``V_k[d]`` the
+    configurations where ``d_{P_k} = d``, ``S_k[a] = ∪_d S_{k-1}[a − d] ∧ V_k[d]`` (``S_0[0]``
+    every state), and ``H[b] = S_m[b]``: extending to ``b`` computes ``S_k[b]`` for
+    ``k = 1, …, m``, from sums already built.  ``check()`` is called before each ``V_k[d]``
+    and each ``S_k[b]`` (a budget may raise there).
+
+    Examples
+    --------
+    >>> from supcoord.paper.run import coupled_instance
+    >>> model = CoupledModel(coupled_instance(3, 8, 0))
+    >>> ctx, bound = Context(), PatternBound(model)
+    >>> for i in range(3):
+    ...     _ = ctx.add_variable(f"p{i}", 8)
+    >>> part = HPartition(bound, ctx, lambda i: f"p{i}")
+    >>> len(part.upto(2)), len(part.upto(5)), part.upto(5)[:3] == part.upto(2)
+    (3, 6, True)
+    """
+
+    def __init__(self, bound: PatternBound, ctx: Context, var: Callable[[int], str],
+                 check: Callable[[], None] | None = None) -> None:
+        self.ctx, self.var, self.check = ctx, var, check or (lambda: None)
+        self.groups, self.tables = bound.groups, bound.tables
+        self.values = [sorted(int(v) for v in np.unique(t) if v != UNREACHABLE) for t in self.tables]
+        self._v: list[dict[int, BDD]] = [{} for _ in self.tables]  # V_k[d], built when first needed
+        self._s: list[list[BDD]] = [[ctx.true]] + [[] for _ in self.tables]  # S_k[a], a = 0, 1, …
+        self.exact: list[BDD] = []  # H[0], H[1], …
+
+    def _value(self, k: int, d: int) -> BDD:
+        if d not in self._v[k]:
+            self.check()
+            names = [self.var(i) for i in self.groups[k]]
+            self._v[k][d] = _array_bdd(self.ctx, self.tables[k] == d, names)
+        return self._v[k][d]
+
+    def upto(self, b: int) -> list[BDD]:
+        """``[H[0], …, H[b]]``, extending the sums built so far as needed."""
+        false = self.ctx.false
+        for a in range(len(self.exact), b + 1):
+            if a > 0:
+                self._s[0].append(false)
+            for k in range(len(self.tables)):
+                self.check()
+                u = false
+                for d in self.values[k]:
+                    if d > a:
+                        break
+                    prev = self._s[k][a - d]
+                    if prev != false:
+                        u |= prev & self._value(k, d)
+                self._s[k + 1].append(u)
+            self.exact.append(self._s[-1][a])
+        return self.exact[: b + 1]
 
 
 def _array_bdd(ctx: Context, mask: np.ndarray, names: list[str]) -> BDD:

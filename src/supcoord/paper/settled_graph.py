@@ -29,7 +29,7 @@ References
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,7 +40,7 @@ from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
 from .events import positioner_events
 from .literal import ring_step
-from .settled_bound import GROUP_SIZE, PatternBound
+from .settled_bound import GROUP_SIZE, HPartition, PatternBound
 
 __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route", "successor_events"]
 
@@ -125,7 +125,7 @@ class SettledGraph:
         for i in range(size):
             check("settled relations", positioner=i + 1, of=size, **(report or {}))
             self._add_moves(i)
-        self.moves = self._merged(self._raw)
+        self.moves = self._merged(self._raw, lambda: check("settled relations", merging=True, **(report or {})))
         del self._raw
         self.target_raw: State = (tuple(self.inst.target), (0,) * size)
         self.target = self.code(self.target_raw)
@@ -135,14 +135,16 @@ class SettledGraph:
         self.start = self.code((start[0], self.start_levels))
         self.max_weight = max((m.weight for m in self.moves), default=1)
 
-    def _merged(self, moves: list[tuple[str, int, BDD, tuple[str, ...]]]) -> list[Move]:
+    def _merged(self, moves: list[tuple[str, int, BDD, tuple[str, ...]]], check: Callable[[], None]) -> list[Move]:
         """One relation per write set and weight (the events of one positioner that move
-        its arm share their write set): fewer, slightly larger images."""
+        its arm share their write set): fewer, slightly larger images; ``check`` is called
+        before each."""
         groups: dict[tuple[tuple[str, ...], int], list[tuple[str, BDD]]] = {}
         for event, weight, relation, writes in moves:
             groups.setdefault((writes, weight), []).append((event, relation))
         out = []
         for (writes, weight), group in groups.items():
+            check()
             rel = self.ctx.false
             for _, r in group:
                 rel |= r
@@ -274,9 +276,14 @@ class SettledGraph:
         """``{y : ∃ y' ∈ x. (y, y') ∈ move}``."""
         return move.backward.raw_image(self.ctx, x)
 
-    def distance_exact(self) -> list[BDD]:
-        """``H[b]``: the states whose lower bound ``h`` (:mod:`.settled_bound`) is ``b``."""
-        return self.bound.partitions(self.ctx, self.pos)
+    def distance_exact(self, cap: int | None = None, check: Callable[[], None] | None = None) -> list[BDD]:
+        """``H[b]``: the states whose lower bound ``h`` (:mod:`.settled_bound`) is ``b``, for
+        ``b ≤ cap`` (None: all); ``check`` is called between the pieces (a budget may raise)."""
+        return self.bound.partitions(self.ctx, self.pos, cap, check)
+
+    def h_partition(self, check: Callable[[], None] | None = None) -> HPartition:
+        """``H[b]`` built on demand (:class:`~.settled_bound.HPartition`); ``check`` as there."""
+        return HPartition(self.bound, self.ctx, self.pos, check)
 
     def heuristic(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where even the relaxation cannot reach the target."""

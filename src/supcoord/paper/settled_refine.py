@@ -176,8 +176,9 @@ class _Refiner:
                 inside &= _project(sets[h], other, group)
         return inside
 
-    def recompute(self, sets: list[np.ndarray], k: int) -> np.ndarray:
-        """The projections onto ``groups[k]`` reached from the seed's by the group's moves."""
+    def recompute(self, sets: list[np.ndarray], k: int, check: Callable[[], None] | None = None) -> np.ndarray:
+        """The projections onto ``groups[k]`` reached from the seed's by the group's moves;
+        ``check`` is called before each breadth-first layer (a budget may raise there)."""
         group = self.groups[k]
         inside = self.inside(sets, group, skip=k)
         steps = [(a, s, np.broadcast_to(self.enabled(sets, k, i, s), inside.shape))
@@ -187,6 +188,8 @@ class _Refiner:
         reached &= inside
         frontier = reached
         while frontier.any():
+            if check is not None:
+                check()
             new = np.zeros_like(inside)
             for a, s, mask in steps:
                 if self.forward:  # y = x moved: x enabled and in the frontier
@@ -222,7 +225,8 @@ def refine(model: CoupledModel, *, forward: bool = True, groups: list[tuple[int,
     max_rounds : int
         Sweeps over the groups at most; the sets are sound after any number.
     check : callable, optional
-        Called before each group's recomputation (a budget check may raise there).
+        Called before each group's recomputation and each of its breadth-first layers (a
+        budget check may raise there).
 
     Returns
     -------
@@ -253,7 +257,7 @@ def refine(model: CoupledModel, *, forward: bool = True, groups: list[tuple[int,
             stale.discard(k)
             if check is not None:
                 check()
-            new = work.recompute(sets, k)
+            new = work.recompute(sets, k, check)
             if not new[tuple(work.goal[i] for i in groups[k])]:
                 sets[k] = new
                 out.excluded = groups[k]

@@ -44,6 +44,8 @@ GREEDY_LIMIT = 2_000
 #: configurations :func:`position_witness` expands at most: about 10 s of CPU at 19
 #: positioners; seed 6 took 8,397 (survey_coupled.py)
 POSITION_LIMIT = 50_000
+#: expansions between two calls of a search's ``check`` (a few milliseconds at 19 positioners)
+CHECK_EVERY = 16
 
 
 @dataclass(frozen=True)
@@ -132,7 +134,8 @@ def _string(model: CoupledModel, moves: list[str]) -> list[str]:
     return path
 
 
-def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY_LIMIT) -> GreedyWitness | None:
+def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY_LIMIT, *,
+                   check: Callable[[], None] | None = None) -> GreedyWitness | None:
     """A forcing string found by greedy best-first search on the settled states, or None.
 
     Parameters
@@ -143,6 +146,8 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
         The lower bound ``h`` ordering the search (states where it is infinite are skipped).
     limit : int
         Settled states expanded at most.
+    check : callable, optional
+        Called at the first expansion and every :data:`CHECK_EVERY` after (a budget check may raise there).
 
     Returns
     -------
@@ -184,6 +189,8 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
             witness = _string(model, moves[::-1])
             return GreedyWitness(tuple(witness), replay(model, witness), expanded)
         expanded += 1
+        if check is not None and expanded % CHECK_EVERY == 1:
+            check()
         for name, z in successor_events(model, y, controllable=True):
             lv, d = settle(model, *z)
             nxt = (z[0], lv)
@@ -214,7 +221,7 @@ def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str
 
 
 def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...]], bool],
-                     limit: int = POSITION_LIMIT) -> GreedyWitness | None:
+                     limit: int = POSITION_LIMIT, *, check: Callable[[], None] | None = None) -> GreedyWitness | None:
     """A forcing string found by greedy best-first search on configurations, or None.
 
     The verdict depends on positions only (:mod:`.settled`), so this searches the graph of
@@ -235,6 +242,8 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
         ``admits(pos)``: False only where the target is unreachable from ``pos``.
     limit : int
         Configurations expanded at most.
+    check : callable, optional
+        Called at the first expansion and every :data:`CHECK_EVERY` after (a budget check may raise there).
 
     Returns
     -------
@@ -276,6 +285,8 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
             witness = _moves_string(model, moves[::-1])
             return GreedyWitness(tuple(witness), replay(model, witness), expanded)
         expanded += 1
+        if check is not None and expanded % CHECK_EVERY == 1:
+            check()
         for i in range(size):
             for s in (1, -1):
                 if not all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
