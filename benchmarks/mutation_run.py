@@ -12,11 +12,15 @@ a run stays within minutes on two shared cores; hypothesis runs its ``quick`` pr
     python benchmarks/mutation_run.py --report               # write results/mutation_score.md from the runs kept
     python benchmarks/mutation_run.py --show store           # the diff of every surviving mutant of a module
     python benchmarks/mutation_run.py --sample 40 --seed 0 validator   # a uniform random sample of 40 mutants
+    python benchmarks/mutation_run.py --sample 40 --seed 1 validator   # a fresh one (earlier samples left out)
 
 A module too large to check whole in one sitting is checked on a uniform random sample of
 its mutants (``--sample``, a fixed ``--seed``): verdicts of earlier runs are reused for the
 sampled mutants they decided, the others run, and ``--report`` gives the sample's score with
-its Wilson 95 % interval, labelled as an estimate, besides the module's full counts.
+its Wilson 95 % interval, labelled as an estimate, besides the module's full counts.  A
+sample with another seed leaves out the mutants of the module's earlier samples (the tests
+written for those survivors would bias it), and each sample keeps its mutants' first
+verdicts: the report gives the first-pass score (unbiased) apart from the score now.
 
 Runs are kept in ``--work`` (default: ``supcoord-mutation`` in the temporary directory),
 one folder per module, so ``--report`` and ``--show`` read them later and a module run
@@ -49,6 +53,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "mutation_score.md"
 SURVIVORS = ROOT / "benchmarks" / "results" / "mutation_survivors.toml"
 WORK = Path(tempfile.gettempdir()) / "supcoord-mutation"
+UNDECIDED = ("not checked", "check was interrupted by user", "skipped")
 NO_MUTANT = "supcoord.no-such-mutant"  # a name no mutant has: mutmut generates the mutants and collects its statistics
 
 
@@ -75,7 +80,7 @@ TARGETS = [
            ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_forcibility_bfa.py", "tests/synthesis/test_witness.py",
             "tests/synthesis/test_witness_env_choice.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
-           ("tests/des/test_gen_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
+           ("tests/des/test_gen_mutants.py", "tests/des/test_gen_reader_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
             "tests/des/test_gen_compat_export.py", "tests/des/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
@@ -169,19 +174,44 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
     return {"seconds": seconds, "exit": code}
 
 
+def _sample_files(d: Path) -> list[Path]:
+    """The samples kept in a module's run folder: ``sample.json`` (the first, seed 0) and
+    ``sample-SEED.json`` (each fresh sample drawn after it), in the order they were drawn."""
+    return sorted(d.glob("sample*.json"), key=lambda f: json.loads(f.read_text()).get("drawn", ""))
+
+
 def sample(t: Target, work: Path, children: int, limit: float, size: int, seed: int, also: list[str] = ()) -> dict:
     """Check a uniform random sample of ``size`` of ``t``'s mutants (``random.Random(seed)``
-    over their sorted names): the sampled mutants a run decided before keep their verdict,
-    the others are run, with the mutants ``also`` names (in the same run: mutmut's clean run
-    of the tests is paid once).  The sample is kept in ``sample.json`` for :func:`report`."""
+    over their sorted names, leaving out the mutants of the module's earlier samples, so a
+    fresh sample is not the one the tests were written for): the sampled mutants a run
+    decided before keep their verdict, the others are run, with the mutants ``also`` names
+    (in the same run: mutmut's clean run of the tests is paid once).  The sample is kept in
+    ``sample-SEED.json`` for :func:`report`, with each sampled mutant's *first* verdict, the
+    one of the ``--sample`` runs, before any test was written for its survivors."""
     st = statuses(t, work)
     if not st:  # generate the mutants and collect the tests' statistics, run none
         run(t, work, children, limit, [f"{NO_MUTANT}"])
         st = statuses(t, work) or {}
-    names = sorted(random.Random(seed).sample(sorted(st), min(size, len(st))))
-    (work / t.name / "sample.json").write_text(json.dumps({"seed": seed, "size": len(names), "names": names}) + "\n")
-    todo = [n for n in names if st[n] == "not checked"] + list(also)
-    return run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
+    d = work / t.name
+    f = d / "sample.json" if seed == 0 else d / f"sample-{seed}.json"
+    if f.exists():  # the same sample again (a run its limit stopped): resume it
+        kept = json.loads(f.read_text())
+    else:
+        earlier = {n for g in _sample_files(d) for n in json.loads(g.read_text())["names"]}
+        pool = sorted(set(st) - earlier)
+        kept = {"seed": seed, "size": min(size, len(pool)), "excluded": len(earlier),
+                "drawn": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+                "names": sorted(random.Random(seed).sample(pool, min(size, len(pool)))), "first": {}}
+        f.write_text(json.dumps(kept) + "\n")
+    todo = [n for n in kept["names"] if st.get(n) == "not checked"] + list(also)
+    r = run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
+    if "first" in kept:
+        now = statuses(t, work) or {}
+        for n in kept["names"]:
+            if n not in kept["first"] and now.get(n, "not checked") not in UNDECIDED:
+                kept["first"][n] = now[n]
+        f.write_text(json.dumps(kept) + "\n")
+    return r
 
 
 def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -443,43 +473,74 @@ def _row(t: Target, counts: list[str], last: str, estimate: str = "") -> str:
 
 
 def _estimates(work: Path, notes: dict[str, dict[str, str]]) -> dict[str, str]:
-    """``module -> "score [interval] (n of N)"`` of the kept samples (:func:`_sampled`)."""
+    """``module -> "score [interval] (n of N)"`` of the module's last kept sample (:func:`_sampled`):
+    its first pass when it has one (the unbiased estimate), else its score now."""
     out = {}
     for line in _sampled(work, notes):
         cells = [c.strip() for c in line.split("|")]
         if line.startswith("| ") and len(cells) > 2 and cells[1] in BY_NAME:
-            out[cells[1]] = f"{cells[8]} ({cells[2].split(' (')[0]})"
+            first = cells[8].split(" (")[0]
+            label = f"first pass, seed {cells[2].split('seed ')[1].split(',')[0].rstrip(')')}"
+            out[cells[1]] = (f"{first} ({label})" if first != "–" and "not kept" not in cells[8]
+                             else f"{cells[9]} ({cells[2].split(' (')[0]}, after tests)")
     return out
+
+
+def _score(killed: int, survived: int) -> str:
+    """``killed / (killed + survived)`` with its Wilson 95 % interval, in percent."""
+    if not killed + survived:
+        return "–"
+    lo, hi = wilson(killed, killed + survived)
+    return f"{100 * killed / (killed + survived):.0f} % [{100 * lo:.0f} %, {100 * hi:.0f} %]"
+
+
+def _kinds(got: dict[str, str], note: dict[str, str]) -> Counter:
+    """Counts of a sample's verdicts, survivors noted equivalent counted apart."""
+    return Counter("killed" if v in ("killed", "timeout", "segfault") else
+                   "equivalent" if v in ("survived", "suspicious") and note.get(n, "").startswith("equivalent")
+                   else "survived" if v == "suspicious" else v for n, v in got.items())
 
 
 def _sampled(work: Path, notes: dict[str, dict[str, str]]) -> list[str]:
     """The table of the modules checked on a uniform random sample (``--sample``): the sample's
-    score and its Wilson 95 % interval, an estimate of the module's score, not the score."""
+    score and its Wilson 95 % interval, an estimate of the module's score, not the score; the
+    *first* score is the sample's with the tests as they were when it was drawn (unbiased),
+    the *now* score after the tests written for its survivors (biased upwards)."""
     rows = []
     for t in TARGETS:
-        f = work / t.name / "sample.json"
-        st = statuses(t, work) if f.exists() else None
+        files = _sample_files(work / t.name)
+        st = statuses(t, work) if files else None
         if not st:
             continue
-        s = json.loads(f.read_text())
-        got = {n: st.get(n, "not checked") for n in s["names"]}
-        note = _by_name(notes.get(t.name, {}), got)
-        kind = Counter("killed" if v in ("killed", "timeout", "segfault") else
-                       "equivalent" if v in ("survived", "suspicious") and note.get(n, "").startswith("equivalent")
-                       else v for n, v in got.items())
-        killed, survived = kind.get("killed", 0), kind.get("survived", 0) + kind.get("suspicious", 0)
-        lo, hi = wilson(killed, killed + survived)
-        est = f"{100 * killed / (killed + survived):.0f} % [{100 * lo:.0f} %, {100 * hi:.0f} %]" if killed + survived else "–"
-        unchecked = sum(kind.get(k, 0) for k in ("not checked", "check was interrupted by user", "skipped"))
-        rows.append(f"| {t.name} | {s['size']} of {len(st)} (seed {s['seed']}) | {killed} | {survived} | "
-                    f"{kind.get('equivalent', 0)} | {kind.get('no tests', 0)} | {unchecked} | {est} |")
+        for f in files:
+            s = json.loads(f.read_text())
+            got = {n: st.get(n, "not checked") for n in s["names"]}
+            note = _by_name(notes.get(t.name, {}), got)
+            kind = _kinds(got, note)
+            killed, survived = kind.get("killed", 0), kind.get("survived", 0)
+            unchecked = sum(kind.get(k, 0) for k in UNDECIDED)
+            if "first" in s:  # equivalent mutants are out of the first score too (the notes decide them)
+                first = _kinds(s["first"], note)
+                before = f"{_score(first.get('killed', 0), first.get('survived', 0))} ({len(s['first'])} decided)"
+            elif "first_counts" in s:  # a sample drawn before first verdicts were kept: its report's counts
+                before = f"{_score(s['first_counts']['killed'], s['first_counts']['survived'])} (counts noted)"
+            else:
+                before = "not kept (see the notes)"
+            fresh = f", fresh: {s['excluded']} earlier-sampled left out" if s.get("excluded") else ""
+            rows.append(f"| {t.name} | {s['size']} of {len(st)} (seed {s['seed']}{fresh}) | {killed} | {survived} | "
+                        f"{kind.get('equivalent', 0)} | {kind.get('no tests', 0)} | {unchecked} | {before} | "
+                        f"{_score(killed, survived)} |")
     if not rows:
         return []
-    return ["", "**Sampled estimates** (`--sample SIZE --seed SEED`): a uniform random sample of all of a module's "
-                "mutants (verdicts of earlier runs reused, the rest run); the score of the sample with its Wilson "
-                "95 % interval estimates the module's score. It is not the module's full score (the table above).", "",
-            "| module | sample | killed | survived | equivalent | no tests | not checked | sample score [95 % interval] |",
-            "|---|---|---|---|---|---|---|---|", *rows]
+    return ["", "**Sampled estimates** (`--sample SIZE --seed SEED`): a uniform random sample of a module's "
+                "mutants (a fresh sample leaves out the mutants of the module's earlier samples; verdicts of earlier "
+                "runs reused, the rest run); the score of the sample with its Wilson 95 % interval estimates the "
+                "module's score. It is not the module's full score (the table above). *First pass*: the sample's "
+                "score with the tests as they were when it was drawn, an unbiased estimate; *now*: after the tests "
+                "written for its survivors, biased upwards (the tests were written looking at this sample).", "",
+            "| module | sample | killed | survived | equivalent | no tests | not checked | first pass [95 %] "
+            "| now [95 %] |",
+            "|---|---|---|---|---|---|---|---|---|", *rows]
 
 
 def _renote(line: str, note: dict[str, str]) -> str:
