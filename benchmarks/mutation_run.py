@@ -78,7 +78,7 @@ TARGETS = [
             "tests/synthesis/test_reachability_names.py", "tests/synthesis/test_reachability_schedules.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
            ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_forcibility_bfa.py", "tests/synthesis/test_witness.py",
-            "tests/synthesis/test_witness_env_choice.py")),
+            "tests/synthesis/test_witness_env_choice.py", "tests/synthesis/test_forcibility_mutants.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
            ("tests/des/test_gen_mutants.py", "tests/des/test_gen_reader_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
             "tests/des/test_gen_compat_export.py", "tests/des/test_io.py")),
