@@ -87,7 +87,7 @@ TARGETS = [
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
            ("tests/geometry/test_sweep.py", "tests/geometry/test_collision.py", "tests/geometry/test_sweep_heterogeneous.py",
-            "tests/geometry/test_geometry_mutants.py",
+            "tests/geometry/test_geometry_mutants.py", "tests/geometry/test_alpha_beta_mutants.py",
             # the fast checks of these functions: the lazy entries, batch and heap tests (5-40 s each)
             # exercise batch.py and entries.py through the tables, and the heterogeneous oracle
             # sweep takes 76 s; the six-angle wrap test stays.
