@@ -12,16 +12,21 @@ a run stays within minutes on two shared cores; hypothesis runs its ``quick`` pr
     python benchmarks/mutation_run.py --report               # write results/mutation_score.md from the runs kept
     python benchmarks/mutation_run.py --show store           # the diff of every surviving mutant of a module
     python benchmarks/mutation_run.py --sample 40 --seed 0 validator   # a uniform random sample of 40 mutants
+    python benchmarks/mutation_run.py --sample 40 --seed 1 validator   # a fresh one (earlier samples left out)
 
 A module too large to check whole in one sitting is checked on a uniform random sample of
 its mutants (``--sample``, a fixed ``--seed``): verdicts of earlier runs are reused for the
 sampled mutants they decided, the others run, and ``--report`` gives the sample's score with
-its Wilson 95 % interval, labelled as an estimate, besides the module's full counts.
+its Wilson 95 % interval, labelled as an estimate, besides the module's full counts.  A
+sample with another seed leaves out the mutants of the module's earlier samples (the tests
+written for those survivors would bias it), and each sample keeps its mutants' first
+verdicts: the report gives the first-pass score (unbiased) apart from the score now.
 
 Runs are kept in ``--work`` (default: ``supcoord-mutation`` in the temporary directory),
 one folder per module, so ``--report`` and ``--show`` read them later and a module run
 again resumes.  ``benchmarks/results/mutation_survivors.toml`` holds, per surviving mutant,
-why it is equivalent (or which test now kills it); ``--report`` quotes it.
+why it is equivalent (or which test now kills it); ``--report`` quotes it, and
+``benchmarks/results/mutation_notes.md``, how the runs were made.
 
 Needs ``pip install mutmut`` (not a dependency of supcoord).
 """
@@ -49,6 +54,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "mutation_score.md"
 SURVIVORS = ROOT / "benchmarks" / "results" / "mutation_survivors.toml"
 WORK = Path(tempfile.gettempdir()) / "supcoord-mutation"
+UNDECIDED = ("not checked", "check was interrupted by user", "skipped")
 NO_MUTANT = "supcoord.no-such-mutant"  # a name no mutant has: mutmut generates the mutants and collects its statistics
 
 
@@ -67,20 +73,21 @@ TARGETS = [
     Target("timing", "timing", ("problems/timing.py", "geometry/sweeps_apart.py"),
            ("tests/problems/test_timing_buffers.py", "tests/geometry/test_sweeps_apart.py")),
     Target("supcon", "synthesis fixpoints", ("synthesis/supcon.py",),
-           ("tests/synthesis/test_supcon.py", "tests/synthesis/test_supcon_lift.py", "tests/synthesis/test_supcon_accessible.py")),
+           ("tests/synthesis/test_supcon.py", "tests/synthesis/test_supcon_lift.py", "tests/synthesis/test_supcon_accessible.py",
+            "tests/synthesis/test_supcon_mutants.py")),
     Target("reachability", "synthesis fixpoints", ("synthesis/reachability.py",),
            ("tests/synthesis/test_reachability.py", "tests/synthesis/test_reachability_within.py",
             "tests/synthesis/test_reachability_names.py", "tests/synthesis/test_reachability_schedules.py")),
     Target("forcibility", "forcibility and witness", ("synthesis/forcibility.py", "synthesis/witness.py"),
            ("tests/synthesis/test_forcibility.py", "tests/synthesis/test_forcibility_bfa.py", "tests/synthesis/test_witness.py",
-            "tests/synthesis/test_witness_env_choice.py")),
+            "tests/synthesis/test_witness_env_choice.py", "tests/synthesis/test_forcibility_mutants.py")),
     Target("gen-reader", ".gen reader and writer", ("des/io/gen_parser.py", "des/io/gen_build.py", "des/io/gen_write.py"),
-           ("tests/des/test_gen_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
+           ("tests/des/test_gen_mutants.py", "tests/des/test_gen_reader_mutants.py", "tests/des/test_gen_xml_lines.py", "tests/des/test_gen_sections.py", "tests/des/test_gen_refusal_values.py", "tests/des/test_gen_compat.py",
             "tests/des/test_gen_compat_export.py", "tests/des/test_io.py")),
     Target("geometry", "geometry bounds and swept checks",
            ("geometry/alpha_beta.py", "geometry/sweep.py", "geometry/pair_tables.py"),
            ("tests/geometry/test_sweep.py", "tests/geometry/test_collision.py", "tests/geometry/test_sweep_heterogeneous.py",
-            "tests/geometry/test_geometry_mutants.py",
+            "tests/geometry/test_geometry_mutants.py", "tests/geometry/test_alpha_beta_mutants.py",
             # the fast checks of these functions: the lazy entries, batch and heap tests (5-40 s each)
             # exercise batch.py and entries.py through the tables, and the heterogeneous oracle
             # sweep takes 76 s; the six-angle wrap test stays.
@@ -169,19 +176,44 @@ def run(t: Target, work: Path, children: int, limit: float, mutants: list[str] =
     return {"seconds": seconds, "exit": code}
 
 
+def _sample_files(d: Path) -> list[Path]:
+    """The samples kept in a module's run folder: ``sample.json`` (the first, seed 0) and
+    ``sample-SEED.json`` (each fresh sample drawn after it), in the order they were drawn."""
+    return sorted(d.glob("sample*.json"), key=lambda f: json.loads(f.read_text()).get("drawn", ""))
+
+
 def sample(t: Target, work: Path, children: int, limit: float, size: int, seed: int, also: list[str] = ()) -> dict:
     """Check a uniform random sample of ``size`` of ``t``'s mutants (``random.Random(seed)``
-    over their sorted names): the sampled mutants a run decided before keep their verdict,
-    the others are run, with the mutants ``also`` names (in the same run: mutmut's clean run
-    of the tests is paid once).  The sample is kept in ``sample.json`` for :func:`report`."""
+    over their sorted names, leaving out the mutants of the module's earlier samples, so a
+    fresh sample is not the one the tests were written for): the sampled mutants a run
+    decided before keep their verdict, the others are run, with the mutants ``also`` names
+    (in the same run: mutmut's clean run of the tests is paid once).  The sample is kept in
+    ``sample-SEED.json`` for :func:`report`, with each sampled mutant's *first* verdict, the
+    one of the ``--sample`` runs, before any test was written for its survivors."""
     st = statuses(t, work)
     if not st:  # generate the mutants and collect the tests' statistics, run none
         run(t, work, children, limit, [f"{NO_MUTANT}"])
         st = statuses(t, work) or {}
-    names = sorted(random.Random(seed).sample(sorted(st), min(size, len(st))))
-    (work / t.name / "sample.json").write_text(json.dumps({"seed": seed, "size": len(names), "names": names}) + "\n")
-    todo = [n for n in names if st[n] == "not checked"] + list(also)
-    return run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
+    d = work / t.name
+    f = d / "sample.json" if seed == 0 else d / f"sample-{seed}.json"
+    if f.exists():  # the same sample again (a run its limit stopped): resume it
+        kept = json.loads(f.read_text())
+    else:
+        earlier = {n for g in _sample_files(d) for n in json.loads(g.read_text())["names"]}
+        pool = sorted(set(st) - earlier)
+        kept = {"seed": seed, "size": min(size, len(pool)), "excluded": len(earlier),
+                "drawn": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+                "names": sorted(random.Random(seed).sample(pool, min(size, len(pool)))), "first": {}}
+        f.write_text(json.dumps(kept) + "\n")
+    todo = [n for n in kept["names"] if st.get(n) == "not checked"] + list(also)
+    r = run(t, work, children, limit, todo) if todo else {"seconds": 0.0, "exit": 0}
+    if "first" in kept:
+        now = statuses(t, work) or {}
+        for n in kept["names"]:
+            if n not in kept["first"] and now.get(n, "not checked") not in UNDECIDED:
+                kept["first"][n] = now[n]
+        f.write_text(json.dumps(kept) + "\n")
+    return r
 
 
 def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -222,130 +254,8 @@ def _survivor_notes() -> dict[str, dict[str, str]]:
     return tomllib.loads(SURVIVORS.read_text()) if SURVIVORS.exists() else {}
 
 
-NOTES = """## How, and what was run
-
-**Tool: mutmut 3** (PyPI, maintained). It works here with pytest and the `src/` layout
-(it copies `src/` to `mutants/src` and puts that first on `sys.path`), mutates a copy, so
-the working tree and other people's edits are never touched, and runs each mutant in a
-forked worker with only the tests that call the mutated function (found by one traced
-run of the module's tests). cosmic-ray, the other candidate, rewrites the files in place
-and starts the test command afresh for every mutant (re-importing numpy, dd and the
-package each time), several times slower on two shared cores.
-
-**Scope.** A module's run is limited to about 25 minutes (`--limit`); mutants it did not
-reach are *not checked*. Such a module has no full score: the table gives the ratio over
-the mutants checked so far (the first functions of its files, so not a fair estimate), and
-where one was run, the score of a uniform random sample with its 95 % interval, the
-estimate of the module's score. Modules marked *not run* were not run for lack of machine
-time (two cores shared by several people); the command above runs them.
-The study store's tests exclude `tests/study/test_study_run.py` (whole studies on Dask, whose
-interruption test fails under mutmut's tracing), so `run_study` and the Dask executor are
-*no tests* there. The `.gen` reader's run checked `gen_parser.py`'s mutants only
-(`--mutants 'supcoord.des.io.gen_parser.*'`); the timing's run used
-`tests/problems/test_timing_buffers.py` and `tests/geometry/test_sweeps_apart.py` (not the slower
-`tests/problems/test_trajectories.py`).
-
-**Runs so far** (the *run* column shows only each module's last run; a run of some mutants
-(`--mutants`) keeps the other mutants' verdicts). *store*: all 886 mutants (523 s), its 9
-killable survivors again after `tests/study/test_study_store_rows.py` (67 s): every mutant in a
-function the tests reach is decided. *timing*: 71 of `timing.py`'s mutants in about 30
-minutes (the tests take several seconds a mutant on the loaded machine); `timing.py`'s other
-mutants and all of `sweeps_apart.py`'s are *not checked*. *gen-reader*: the first 48 of
-`gen_parser.py`'s mutants (about 25 minutes: `tests/des/test_gen_compat.py` and
-`tests/des/test_gen_sections.py` run hundreds of libFAUDES comparisons a mutant), its survivors
-again after `tests/des/test_gen_refusal_values.py`; the rest, `gen_bulk.py` and `gen_write.py`
-are *not checked*. *reachability*: 900 s over all mutants (the wrappers, the naive twins,
-`_clusters`, parts of `_merge_by_writes`), then 1100 s over the survivors and `_saturate`
-after `tests/synthesis/test_reachability_names.py` and `tests/synthesis/test_reachability_schedules.py`, then
-the survivors again; `_bfs`, `_chaining`, `_sweep`, `_fixpoint` and the rest of `_saturate`
-are *not checked*. *supcon*: 1200 s (one worker) over `supcon.py` (`supcon_flat`, the
-result's `summary` and reprs are *no tests*: `tests/synthesis/test_supcon.py` does not call them),
-then `lift_spec`'s survivors after `tests/synthesis/test_supcon_lift.py`; the mutants of `supcon`
-itself not reached are *not checked*. *forcibility*: 900 s (one worker) reaching the
-wrappers, `bfa_naive`, `witness_naive` and parts of `forcible_layers`, then its survivors
-again after `tests/synthesis/test_forcibility_bfa.py` and `tests/synthesis/test_witness_env_choice.py`; the
-rest is *not checked*. *validator*: a first run with `tests/cli/test_safety.py` and
-`tests/problems/test_trajectories.py` stopped before its first mutant: under mutmut's tracing
-`test_sigint_at_any_time_is_one_line_and_exit_130` fails (exit 0 instead of 130, like the
-study run's interruption test), so mutmut could not collect its statistics; the run kept
-uses `tests/problems/test_validate.py` alone, 720 s (two workers), then `_ids`' survivors again with
-`tests/problems/test_validate_messages.py`; and reached the oracle's
-`hex_bases_by_angle` (an oracle: its survivors are all equivalent) and the first helpers of
-`validate_plan` (`_check_events`, `_check_angles_match`, `_step_delta`, `_angles_off`,
-`_ids`, `_wrapping`), whose survivors are kept as survivors: no test of `test_validate.py`
-has robots that differ in wrapping, an odd or two-step wrapping joint, `angles_deg` that
-disagree with the configurations, or more than ten robots in one message.
-*geometry*: 1500 s (two workers) over `alpha_beta.py`, `sweep.py` and `pair_tables.py`
-with the fast tests of `tests/geometry/test_sweep.py`, `tests/geometry/test_collision.py`,
-the six-angle wrap test and `tests/geometry/test_geometry_mutants.py` (the lazy-entry,
-batch and heap tests and the 76 s heterogeneous oracle sweep left out: 5 to 76 s each a
-mutant); it reached `sweep.py`'s certain/annulus/bisection checks and the slack, whose
-survivors were killed by `tests/geometry/test_geometry_mutants.py` (completeness of the
-bisection bound, the margins, broadcasting, the default depth) and run again; the rest of
-`sweep.py`, `pair_tables.py` and most of `alpha_beta.py` are *not checked*; `inverse_deg`,
-`fibre`, `to_json` and the reprs are *no tests* (the selected tests do not call them).
-*descent*: 1500 s (one worker) with the fast solves of `tests/planning/test_planner.py` and
-`tests/planning/test_descent_properties.py` (`tests/planning/test_descent_merged.py` and
-`tests/planning/test_planner_oracle.py` take minutes a mutant), then its survivors again
-with `test_symbolic_verdict_and_rank_equal_the_oracle` added (the small components' exact
-windows against the oracle). Rows whose run is not kept in the work folder (supcon,
-reachability, forcibility, validator: run in an earlier session) are the earlier report's.
-The score of a partial run is about the mutants it checked, not the module.
-
-**Survivors killed or classified (2026-11-29).** Each class of survivor got a fast test with
-an independent opinion, added to its module's selection, and those mutants were run again:
-*descent*: `tests/planning/test_windows_mutants.py` (the whole-component window's outcome,
-seen through the observer, against the explicit oracle's verdict and shortest distance; the
-certificate of an infeasible component); `whole`'s mutants that change only the outsiders
-(none in a conflict component), the start (the window runs from it) or how guards are held
-are equivalent. *validator*: `tests/problems/test_validate_mutants.py` (the short way round on
-joints of 2 to 7 positions against enumeration, robots that differ in wrapping, `angles_deg`
-that disagree with the configurations, a bad event's wording). *gen-reader*:
-`tests/des/test_gen_mutants.py` (the lines of a nondeterministic clash at every position,
-both layouts, both readings, every attribute form). *store*:
-`tests/study/test_study_store_mutants.py` (the 30 s lock wait, read back from SQLite; a
-database over an input refused). The code of several modules changed since their kept
-runs (the store's `is_done` and `records` moved to `resume.py`, `ResultStore.__init__`
-checks its inputs, `windows.py` gained the observer): mutmut regenerates the mutants of a
-changed function and its verdicts start again, which is why *store* was run whole again
-and *descent* has more mutants than before. *Sampled estimates*: `descent` (30 mutants,
-seed 0) within a 1500 s limit; a sampled mutant the limit left *not checked* is out of
-the sample's score, which is then about the sampled mutants decided; its survivors are
-classified below (three killed by tests written after the sample's run copied the tests).
-An earlier run of *gen-reader* and *validator* (their selections changed, so mutmut
-collects its statistics again) did not get past the statistics within its limits on the
-machine as loaded then (load 20 to 30 on two cores). *store* was stopped by its 1500 s
-limit with the mutants not reached *not checked*.
-
-**Runs of 2026-11-29, 06:17-07:20 UTC** (one worker, niced, load 6 to 19 on two cores).
-*store*: its two `ResultStore.__init__` survivors again: both killed. *descent*: a uniform
-sample of 90 of its 1,143 mutants (seed 0, drawn after `descent.py` changed; 744 s), every
-one decided: 63 killed, 15 survivors, 2 equivalent, 10 no tests, **81 % [71 %, 88 %]** for
-the tests as they were. Each survivor class then got a fast test with its own opinion
-(`tests/planning/test_windows_mutants.py`: the few-displaced shortcut's plans read off the
-configurations they visit, capped windows giving up, every descent step offered to the
-budget, the option refusals, the window counters against the observer and the model, the
-descended hook, an infeasible window's how; `tests/planning/test_descent_properties.py`:
-`motion_free` against the exact swept turn on robots of different arms, either member
-moving, and the descent on lazy tables against whole tables), and the survivors ran again
-(461 s): all killed but two (an internal check's message no input reaches, and the lazy
-tables' fallback for entries not decided ahead). The sample's score is now 97 % [91 %,
-99 %]; that figure is biased upwards (the tests were written for the sampled survivors),
-so the fair estimate of the module is between it and the first pass's 81 %; a fresh
-sample (another seed) would measure it. *gen-reader*: its eleven earlier survivors again
-on the current code (511 s): the `_locate` ones are of a function that changed, the five
-still surviving are equivalent (notes below); then a uniform sample of 40 of its 2,536
-mutants (seed 0) in three runs (900 s, 470 s, 48 s), every one decided. Before any test was
-written for them: 28 killed, 12 survivors, **70 % [55 %, 82 %]**. The survivors got tests
-in `tests/des/test_gen_mutants.py` (an XML `<Consecutive>` range out of order, a `<State>`
-id quoted in its refusal, a transition listed twice, the flat writer's Latin-1 and its
-order beyond the successor table, a stray element refused at its line) and ran again: 35
-killed, 5 survivors not yet examined (no time left), 88 % [74 %, 95 %], biased upwards as
-the descent's second figure is. *validator*: not run again in
-this session (its statistics were never collected: they take longer than the time left on
-the loaded machine), so its row is the earlier report's; *timing*, *supcon*,
-*reachability*, *forcibility* and *geometry* got no sample for the same reason.
-"""
+#: how the runs were made and what each found (hand-written, quoted by the report)
+NOTES_FILE = ROOT / "benchmarks" / "results" / "mutation_notes.md"
 
 
 def _earlier(out: Path) -> dict[str, tuple[list[str], list[str]]]:
@@ -419,7 +329,7 @@ def report(work: Path, out: Path) -> None:
                            + ", ".join(f"`{f}` ({c})" for f, c in sorted(funcs.items())) + ".")
             details.append("")
         details += [f"- `{n}` ({st[n]}): {note.get(n, 'not yet examined')}" for n in survivors]
-    text = "\n".join(lines + _sampled(work, notes)) + "\n\n" + NOTES + "\n".join(details) + "\n"
+    text = "\n".join(lines + _sampled(work, notes)) + "\n\n" + NOTES_FILE.read_text() + "\n".join(details) + "\n"
     tmp = out.with_suffix(".md.tmp")
     tmp.write_text(text)
     os.replace(tmp, out)
@@ -443,43 +353,74 @@ def _row(t: Target, counts: list[str], last: str, estimate: str = "") -> str:
 
 
 def _estimates(work: Path, notes: dict[str, dict[str, str]]) -> dict[str, str]:
-    """``module -> "score [interval] (n of N)"`` of the kept samples (:func:`_sampled`)."""
+    """``module -> "score [interval] (n of N)"`` of the module's last kept sample (:func:`_sampled`):
+    its first pass when it has one (the unbiased estimate), else its score now."""
     out = {}
     for line in _sampled(work, notes):
         cells = [c.strip() for c in line.split("|")]
         if line.startswith("| ") and len(cells) > 2 and cells[1] in BY_NAME:
-            out[cells[1]] = f"{cells[8]} ({cells[2].split(' (')[0]})"
+            first = cells[8].split(" (")[0]
+            label = f"first pass, seed {cells[2].split('seed ')[1].split(',')[0].rstrip(')')}"
+            out[cells[1]] = (f"{first} ({label})" if first != "–" and "not kept" not in cells[8]
+                             else f"{cells[9]} ({cells[2].split(' (')[0]}, after tests)")
     return out
+
+
+def _score(killed: int, survived: int) -> str:
+    """``killed / (killed + survived)`` with its Wilson 95 % interval, in percent."""
+    if not killed + survived:
+        return "–"
+    lo, hi = wilson(killed, killed + survived)
+    return f"{100 * killed / (killed + survived):.0f} % [{100 * lo:.0f} %, {100 * hi:.0f} %]"
+
+
+def _kinds(got: dict[str, str], note: dict[str, str]) -> Counter:
+    """Counts of a sample's verdicts, survivors noted equivalent counted apart."""
+    return Counter("killed" if v in ("killed", "timeout", "segfault") else
+                   "equivalent" if v in ("survived", "suspicious") and note.get(n, "").startswith("equivalent")
+                   else "survived" if v == "suspicious" else v for n, v in got.items())
 
 
 def _sampled(work: Path, notes: dict[str, dict[str, str]]) -> list[str]:
     """The table of the modules checked on a uniform random sample (``--sample``): the sample's
-    score and its Wilson 95 % interval, an estimate of the module's score, not the score."""
+    score and its Wilson 95 % interval, an estimate of the module's score, not the score; the
+    *first* score is the sample's with the tests as they were when it was drawn (unbiased),
+    the *now* score after the tests written for its survivors (biased upwards)."""
     rows = []
     for t in TARGETS:
-        f = work / t.name / "sample.json"
-        st = statuses(t, work) if f.exists() else None
+        files = _sample_files(work / t.name)
+        st = statuses(t, work) if files else None
         if not st:
             continue
-        s = json.loads(f.read_text())
-        got = {n: st.get(n, "not checked") for n in s["names"]}
-        note = _by_name(notes.get(t.name, {}), got)
-        kind = Counter("killed" if v in ("killed", "timeout", "segfault") else
-                       "equivalent" if v in ("survived", "suspicious") and note.get(n, "").startswith("equivalent")
-                       else v for n, v in got.items())
-        killed, survived = kind.get("killed", 0), kind.get("survived", 0) + kind.get("suspicious", 0)
-        lo, hi = wilson(killed, killed + survived)
-        est = f"{100 * killed / (killed + survived):.0f} % [{100 * lo:.0f} %, {100 * hi:.0f} %]" if killed + survived else "–"
-        unchecked = sum(kind.get(k, 0) for k in ("not checked", "check was interrupted by user", "skipped"))
-        rows.append(f"| {t.name} | {s['size']} of {len(st)} (seed {s['seed']}) | {killed} | {survived} | "
-                    f"{kind.get('equivalent', 0)} | {kind.get('no tests', 0)} | {unchecked} | {est} |")
+        for f in files:
+            s = json.loads(f.read_text())
+            got = {n: st.get(n, "not checked") for n in s["names"]}
+            note = _by_name(notes.get(t.name, {}), got)
+            kind = _kinds(got, note)
+            killed, survived = kind.get("killed", 0), kind.get("survived", 0)
+            unchecked = sum(kind.get(k, 0) for k in UNDECIDED)
+            if "first" in s:  # equivalent mutants are out of the first score too (the notes decide them)
+                first = _kinds(s["first"], note)
+                before = f"{_score(first.get('killed', 0), first.get('survived', 0))} ({len(s['first'])} decided)"
+            elif "first_counts" in s:  # a sample drawn before first verdicts were kept: its report's counts
+                before = f"{_score(s['first_counts']['killed'], s['first_counts']['survived'])} (counts noted)"
+            else:
+                before = "not kept (see the notes)"
+            fresh = f", fresh: {s['excluded']} earlier-sampled left out" if s.get("excluded") else ""
+            rows.append(f"| {t.name} | {s['size']} of {len(st)} (seed {s['seed']}{fresh}) | {killed} | {survived} | "
+                        f"{kind.get('equivalent', 0)} | {kind.get('no tests', 0)} | {unchecked} | {before} | "
+                        f"{_score(killed, survived)} |")
     if not rows:
         return []
-    return ["", "**Sampled estimates** (`--sample SIZE --seed SEED`): a uniform random sample of all of a module's "
-                "mutants (verdicts of earlier runs reused, the rest run); the score of the sample with its Wilson "
-                "95 % interval estimates the module's score. It is not the module's full score (the table above).", "",
-            "| module | sample | killed | survived | equivalent | no tests | not checked | sample score [95 % interval] |",
-            "|---|---|---|---|---|---|---|---|", *rows]
+    return ["", "**Sampled estimates** (`--sample SIZE --seed SEED`): a uniform random sample of a module's "
+                "mutants (a fresh sample leaves out the mutants of the module's earlier samples; verdicts of earlier "
+                "runs reused, the rest run); the score of the sample with its Wilson 95 % interval estimates the "
+                "module's score. It is not the module's full score (the table above). *First pass*: the sample's "
+                "score with the tests as they were when it was drawn, an unbiased estimate; *now*: after the tests "
+                "written for its survivors, biased upwards (the tests were written looking at this sample).", "",
+            "| module | sample | killed | survived | equivalent | no tests | not checked | first pass [95 %] "
+            "| now [95 %] |",
+            "|---|---|---|---|---|---|---|---|---|", *rows]
 
 
 def _renote(line: str, note: dict[str, str]) -> str:

@@ -117,9 +117,11 @@ class _Windows(WindowObserver):
     def __init__(self):
         self.windows: list[WindowOutcome] = []
         self.few: list[int] = []  # indices in ``windows`` of those the shortcut solved
+        self.few_moves: list = []  # the moves the shortcut reported for each
 
     def few_displaced_solved(self, moves) -> None:
         self.few.append(len(self.windows))
+        self.few_moves.append(moves)
 
     def window(self, outcome: WindowOutcome) -> None:
         self.windows.append(outcome)
@@ -144,6 +146,7 @@ def test_few_displaced_plans_keep_all_but_two_members_in_place():
         at += len(o.moves)
         if i not in rec.few:
             continue
+        assert rec.few_moves[rec.few.index(i)] == o.moves  # the shortcut's own plan is the window's
         away = [{q for q in range(p.n) if not np.array_equal(x[q], seen[0][q])} for x in seen]
         assert set().union(*away) <= set(o.members)
         assert any(all(len(a - {r}) <= 2 for a in away) for r in o.members)
@@ -238,6 +241,7 @@ def test_an_infeasible_grown_window_says_how(name, seed):
     if res.certificate is None:
         return
     last = rec.windows[-1]
+    assert last.members and set(last.members) <= set(range(p.n))  # the robots the certificate is about
     assert last.how in (HOW, "exhaustive symbolic search of this relaxed subproblem",
                         "their reachable configurations were computed exactly and no other positioner restricts them")
     assert res.certificate.how == last.how

@@ -141,3 +141,76 @@ def test_a_bad_event_is_named_with_the_events_of_its_problem(case, event, messag
     r = validate_plan(problem, Plan("complete", plan.configurations, events=events))
     assert not r.valid
     assert message.format(k=k) in r.problems
+
+
+# -- classes of input the sampled survivors (seed 0) showed untested: the segment distance
+# beyond a segment's end, offline robots, joint rules and fixed obstacles --------------------
+
+
+def _point_segment(p, a, b):
+    """Distance from point ``p`` to segment ``[a, b]`` (the textbook projection, clamped)."""
+    ab = b - a
+    t = 0.0 if not ab.any() else min(1.0, max(0.0, float(np.dot(p - a, ab) / np.dot(ab, ab))))
+    return float(np.linalg.norm(p - (a + t * ab)))
+
+
+def _cross(p1, q1, p2, q2):
+    def orient(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    return orient(p1, q1, p2) * orient(p1, q1, q2) < 0 and orient(p2, q2, p1) * orient(p2, q2, q1) < 0
+
+
+def test_segment_distance_is_the_least_end_point_distance_of_segments_that_do_not_cross():
+    """Two segments that do not cross are nearest at an end point of one of them, so the
+    distance is the least of four point-to-segment distances (0 where they cross)."""
+    from supcoord.problems.validate import segment_distance_ericson
+
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-10, 10, size=(400, 4, 2))
+    pts[::7, 1] = pts[::7, 0] + 3 * (pts[::7, 3] - pts[::7, 2])  # nearly parallel, different lengths
+    got = segment_distance_ericson(pts[:, 0], pts[:, 1], pts[:, 2], pts[:, 3])
+    for (p1, q1, p2, q2), d in zip(pts, got):
+        want = 0.0 if _cross(p1, q1, p2, q2) else min(
+            _point_segment(p1, p2, q2), _point_segment(q1, p2, q2), _point_segment(p2, p1, q1),
+            _point_segment(q2, p1, q1))
+        assert d == pytest.approx(want, abs=1e-9)
+
+
+def _standing(problem, conf):
+    """``problem`` from ``conf`` to ``conf`` and the plan that stays there."""
+    c = np.array(conf)
+    return dataclasses.replace(problem, start=c, target=c.copy()), Plan("complete", [c, c.copy()])
+
+
+def test_an_offline_robot_that_moves_is_refused_and_one_that_stays_is_not():
+    p = parse_problem(TWO_AB)
+    start = np.array([[0, 6], [6, 6]])
+    moved = start.copy()
+    moved[1, 0] = 7
+    held = dataclasses.replace(p, start=start, target=moved, held={1: (6, 6)})
+    res = validate_plan(held, Plan("complete", [start, moved]))
+    assert "offline positioners 1 move" in " ".join(res.problems) and not res.valid
+    still, plan = _standing(dataclasses.replace(p, held={1: (6, 6)}), start)
+    assert validate_plan(still, plan).valid
+
+
+@pytest.mark.parametrize("alpha_pos,beta_pos,forbidden", [(6, 1, True), (6, 4, False), (0, 1, False)])
+def test_a_joint_rule_forbids_the_half_plane_it_names(alpha_pos, beta_pos, forbidden):
+    """Rule (c0, c1) = (0, 0.5) on robot 0: beta < 0.5 alpha (degrees) is forbidden.  On the
+    12 x 7 lattice alpha = 30 alpha_pos and beta = 30 beta_pos: (180, 30) is inside
+    (30 < 90), (180, 120) and (0, 30) are not."""
+    p = dataclasses.replace(parse_problem(TWO_AB), joint_rules={0: (0.0, 0.5)})
+    one, plan = _standing(p, [[alpha_pos, beta_pos], [6, 6]])
+    res = validate_plan(one, plan)
+    assert ("forbidden region of their joint rule" in " ".join(res.problems)) == forbidden
+    assert res.valid == (not forbidden)
+
+
+def test_a_robot_lying_on_a_fixed_obstacle_is_a_collision():
+    """A segment through robot 0's base: its first arm starts there (distance 0); the same
+    segment 200 mm away touches nothing."""
+    p = parse_problem(TWO_AB)
+    for seg, hit in (([[-5.0, 0.0], [5.0, 0.0]], True), ([[200.0, 200.0], [205.0, 200.0]], False)):
+        q = dataclasses.replace(p, obstacles=np.array([seg]), obstacle_buffers=np.array([0.5]))
+        one, plan = _standing(q, [[0, 6], [6, 6]])
+        assert validate_plan(one, plan).valid == (not hit)

@@ -414,6 +414,8 @@ def _int_column(col: list[str], table: np.ndarray | None) -> np.ndarray | None:
     joined = "".join(col)
     if table is None or not (joined.isdigit() and joined.isascii()):
         return None if joined or table is None else np.zeros(0, dtype=np.int64)
+    if max(map(len, col)) > 18:  # beyond int64: a state no table holds
+        return None
     values = np.fromiter(map(int, col), dtype=np.int64, count=len(col))
     if len(values) and (values.max() >= len(table) or not table[values].all()):
         return None
@@ -442,13 +444,13 @@ def _misses(b: GenBuilder, tokens: list, cut: int, quoted: bool, col1: list, col
         if kind == "integer":
             if value in b.known:
                 return value
-            if not intro.by_index:
-                raise Fallback
+            if not intro.by_index or not 0 < value < 2**63 or len(b.order) >= MAX_STATES:
+                raise Fallback  # refused: the token reading names the transition's line
             b.add_state(value, None, 0)
             bare[str(value)] = value
             intro.by_name = False
             return value
-        if kind != "string" or not intro.by_name or not valid_symbol(tok):
+        if kind != "string" or not intro.by_name or not valid_symbol(tok) or len(b.order) >= MAX_STATES:
             raise Fallback
         idx = b.max_index + 1
         b.add_state(idx, tok, 0)
