@@ -167,7 +167,31 @@ def reduced_problem(problem: Problem, off: frozenset[int], folded: frozenset[int
 
 def sub_problem(problem: Problem, members: Sequence[int]) -> Problem:
     """The problem of the robots ``members`` alone (the others removed; obstacles stay), as
-    points at their bases; robot ``members[i]`` is robot ``i`` there."""
+    points at their bases; robot ``members[i]`` is robot ``i`` there.
+
+    Parameters
+    ----------
+    problem : Problem
+        The whole problem.
+    members : sequence of int
+        The robots kept, in the order they take there.
+
+    Returns
+    -------
+    Problem
+        Their problem: the same kinematics, buffers (mm), ends, priorities and held robots;
+        its collision tables computed afresh for its own pairs.
+
+    Examples
+    --------
+    >>> from supcoord.problems.problem import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [9, 15]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]})
+    >>> q = sub_problem(p, [2, 0])
+    >>> q.n, q.start.ravel().tolist(), q.bases.tolist()
+    (2, [9, 5], [[9.0, 15.0], [0.0, 0.0]])
+    """
     idx = [int(p) for p in members]
     new = {p: i for i, p in enumerate(idx)}
     kins = None if problem.robot_kinematics is None else [problem.robot_kinematics[p] for p in idx]
@@ -181,7 +205,29 @@ def sub_problem(problem: Problem, members: Sequence[int]) -> Problem:
 
 
 def neighbourhood(problem: Problem, robot: int) -> list[int]:
-    """``robot`` and the robots whose reach meets its own (:meth:`Problem.pairs`), in order."""
+    """``robot`` and the robots whose reach meets its own (:meth:`Problem.pairs`), in order.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    robot : int
+        Its index.
+
+    Returns
+    -------
+    list of int
+        ``robot`` and its neighbours, ascending.
+
+    Examples
+    --------
+    >>> from supcoord.problems.problem import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [100, 0]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [6, 0, 0], "target": [6, 0, 0]})
+    >>> neighbourhood(p, 0), neighbourhood(p, 2)
+    ([0, 1], [2])
+    """
     pairs = problem.pairs
     near = pairs[np.any(pairs == robot, axis=1)].ravel()
     return sorted({int(robot)} | {int(p) for p in near})
