@@ -129,3 +129,45 @@ def test_the_planner_hands_step_4_the_finer_lattice_and_the_one_finer_again():
         == [(18, 10), (27, 15)]
     for refined in (None, Refined("unknown", lattice=(18, 10)), Refined("not searched")):
         assert planner._finer_attempt(p, verdict(refined), None, None) == ()
+
+
+def test_a_neighbourhood_certified_alone_stays_off_target_without_planning_the_rest():
+    problem = parse_problem(TRIANGLE)
+    whole, alone_calls = [], []
+
+    def finer(sub):
+        whole.append(sorted(_off(problem, sub)))
+        return _plan(sub, (24,)) if 1 in _off(problem, sub) else ([1, 2], "finer")
+
+    def alone(sub, members):  # robot 1 with its neighbours alone has no plan on the finer lattice
+        alone_calls.append((sorted(members), sorted(_off(problem, sub))))
+        return ([1, 2], "alone") if 1 in members and 1 not in _off(problem, sub) else None
+
+    finer.alone = alone
+    r = partial_search(problem, [0], "coarse", _coarse(problem), finer=finer)
+    assert whole == [[1]]  # the whole problem planned once, with robot 1 already kept off target
+    assert alone_calls == [([0, 1, 2], []), ([0, 1, 2], [1])]
+    assert [e.robot for e in r.off_target] == [1] and r.stats.finer_put_back == [0]
+    assert r.stats.finer_attempts == 1 and r.stats.finer_alone == 2
+    assert r.stats.to_json()["finer_alone"] == 2
+
+
+def test_the_planners_neighbourhood_names_the_whole_problems_robots(monkeypatch):
+    from types import SimpleNamespace
+
+    from supcoord.planning import planner
+    from supcoord.planning.windows import Certificate
+
+    ab = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7}
+    p = parse_problem({"layout": {"kind": "hex", "rings": 1, "pitch": 22.4}, "kinematics": ab,
+                       "collision": {"buffer": 1.0}, "start": [[0, 0]] * 7, "target": [[6, 6]] * 7})
+    seen = []
+
+    def fake_solve(sub, settings, budget):
+        seen.append((sub.n, sub.kinematics.n_positions))
+        return SimpleNamespace(certificate=Certificate([1, 2], "window"), plan=None)
+
+    monkeypatch.setattr(planner, "_solve", fake_solve)
+    attempt = planner._lattice_attempt(p, (18, 10), None, None)
+    assert attempt.alone(p, [0, 3, 5]) == ([3, 5], "window")  # sub-problem robots 1, 2 are robots 3, 5
+    assert seen == [(3, 180)]  # the three robots alone, on the 18 x 10 lattice

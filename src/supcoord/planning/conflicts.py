@@ -25,7 +25,6 @@ position in focal-plane mm.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import io
 from dataclasses import dataclass
 from typing import Sequence
@@ -37,6 +36,7 @@ from ..geometry.layout import _short
 from ..geometry.motion import placed_segments
 from ..geometry.segments import segment_distance
 from ..problems.problem import Problem
+from .partial import sub_problem  # noqa: F401  (exported here too)
 from .planner import solve
 
 __all__ = ["Conflict", "ConflictReport", "KINDS", "CSV_COLUMNS", "find_conflicts", "static_conflicts",
@@ -144,21 +144,6 @@ def static_conflicts(problem: Problem) -> list[Conflict]:
                                     f"robot {p} at its target is {d[o]:.3f} mm from obstacle {o}, less than "
                                     f"{problem.buffers[p] + problem.obstacle_buffers[o]:.3f} mm"))
     return out
-
-
-def sub_problem(problem: Problem, members: Sequence[int]) -> Problem:
-    """The problem of the robots ``members`` alone (the others removed; obstacles stay), as
-    points at their bases; robot ``members[i]`` is robot ``i`` there."""
-    idx = [int(p) for p in members]
-    new = {p: i for i, p in enumerate(idx)}
-    kins = None if problem.robot_kinematics is None else [problem.robot_kinematics[p] for p in idx]
-    layout = {"kind": "points", "xy": problem.bases[idx].tolist()}
-    return dataclasses.replace(
-        problem, layout=layout, bases=problem.bases[idx], buffers=problem.buffers[idx], start=problem.start[idx],
-        target=problem.target[idx], priority=[problem.priority[p] for p in idx], robot_kinematics=kins,
-        held={new[p]: q for p, q in problem.held.items() if p in new},
-        joint_rules={new[p]: r for p, r in problem.joint_rules.items() if p in new},
-        extra={}, warnings=[], _tables=None, _pairs=None, _unary=None)
 
 
 def planned_conflicts(problem: Problem, exclude: Sequence[int] = (), max_groups: int = 8,

@@ -41,7 +41,12 @@ such disjoint groups: no plan has more robots on target.
    answer, planned on that lattice) or no robot is left to put back; then the same on the
    next finer lattice, if ``solve`` gave one (a lattice's certificate holds on that lattice
    only: on the SDSS-V APO wok a robot certified off target on 13 × 7 and 19 × 10 reaches
-   its target on 28 × 15).  A plan there may hold
+   its target on 28 × 15).  Before each sub-problem of the whole problem there, each robot
+   being put back is tried with its neighbours alone (:func:`sub_problem` of the robot and the
+   robots whose reach meets its own, ends as in ``P(O)``): a certificate of that small problem
+   is one of ``P(O)`` on that lattice (its group cannot reach those ends even with every other
+   robot removed), so the robots it names that were being put back stay off target without
+   planning all the others.  A plan there may hold
    more robots on target than the problem's lattice allows, so its answer is not ``optimal``
    and its bound is every robot.
 
@@ -74,7 +79,7 @@ from ..problems.problem import Problem
 from .graph_order import conflict_components
 
 __all__ = ["WHEN_INCOMPLETE", "EXACT_ROBOTS", "Nogood", "PartialStats", "PartialResult", "partial_search",
-           "reduced_problem"]
+           "reduced_problem", "sub_problem", "neighbourhood"]
 
 #: what ``solve`` answers when no plan puts every robot on target: ``"partial"`` a partial
 #: plan (the most robots on target), ``"infeasible"`` the verdict with its certificate
@@ -84,7 +89,9 @@ WHEN_INCOMPLETE = ("partial", "infeasible")
 EXACT_ROBOTS = 6
 
 #: one attempt: ``P(O)`` → its complete plan, or the certificate ``(members, how)`` of its
-#: infeasibility; raises :class:`~supcoord.errors.BudgetExceeded` when the budget ends
+#: infeasibility; raises :class:`~supcoord.errors.BudgetExceeded` when the budget ends.  A
+#: finer lattice's attempt may carry ``alone(P, members)``: the certificate ``(members, how)``
+#: of the robots ``members`` of ``P`` alone on that lattice, or None where they have a plan
 Attempt = Callable[[Problem], "Plan | tuple[list[int], str]"]
 
 
@@ -121,6 +128,8 @@ class PartialStats:
     #: step 4: sub-problems tried on the finer lattice, and the robots it put back on target
     finer_attempts: int = 0
     finer_put_back: list[int] = field(default_factory=list)
+    #: step 4: neighbourhoods tried alone on the finer lattice (in ``to_json`` where any was)
+    finer_alone: int = 0
     #: step 5: sub-problems tried with robots off target folded (in ``to_json`` where any was)
     fold_attempts: int = 0
 
@@ -129,7 +138,8 @@ class PartialStats:
         return {"attempts": self.attempts, "nogoods": self.nogoods, "method": self.method,
                 "candidates": list(self.candidates), "seconds": self.seconds,
                 "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back),
-                **({"fold_attempts": self.fold_attempts} if self.fold_attempts else {})}
+                **({"fold_attempts": self.fold_attempts} if self.fold_attempts else {}),
+                **({"finer_alone": self.finer_alone} if self.finer_alone else {})}
 
 
 @dataclass
@@ -153,6 +163,74 @@ def reduced_problem(problem: Problem, off: frozenset[int], folded: frozenset[int
     entries = tuple(OffTarget(r, "", None, "folded" if r in folded else "start") for r in sorted(off))
     return replace(problem, target=partial_end(problem.start, problem.target, entries,
                                                folded_ends(problem) if folded else None))
+
+
+def sub_problem(problem: Problem, members: Sequence[int]) -> Problem:
+    """The problem of the robots ``members`` alone (the others removed; obstacles stay), as
+    points at their bases; robot ``members[i]`` is robot ``i`` there.
+
+    Parameters
+    ----------
+    problem : Problem
+        The whole problem.
+    members : sequence of int
+        The robots kept, in the order they take there.
+
+    Returns
+    -------
+    Problem
+        Their problem: the same kinematics, buffers (mm), ends, priorities and held robots;
+        its collision tables computed afresh for its own pairs.
+
+    Examples
+    --------
+    >>> from supcoord.problems.problem import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [9, 15]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]})
+    >>> q = sub_problem(p, [2, 0])
+    >>> q.n, q.start.ravel().tolist(), q.bases.tolist()
+    (2, [9, 5], [[9.0, 15.0], [0.0, 0.0]])
+    """
+    idx = [int(p) for p in members]
+    new = {p: i for i, p in enumerate(idx)}
+    kins = None if problem.robot_kinematics is None else [problem.robot_kinematics[p] for p in idx]
+    layout = {"kind": "points", "xy": problem.bases[idx].tolist()}
+    return replace(
+        problem, layout=layout, bases=problem.bases[idx], buffers=problem.buffers[idx], start=problem.start[idx],
+        target=problem.target[idx], priority=[problem.priority[p] for p in idx], robot_kinematics=kins,
+        held={new[p]: q for p, q in problem.held.items() if p in new},
+        joint_rules={new[p]: r for p, r in problem.joint_rules.items() if p in new},
+        extra={}, warnings=[], _tables=None, _pairs=None, _unary=None)
+
+
+def neighbourhood(problem: Problem, robot: int) -> list[int]:
+    """``robot`` and the robots whose reach meets its own (:meth:`Problem.pairs`), in order.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    robot : int
+        Its index.
+
+    Returns
+    -------
+    list of int
+        ``robot`` and its neighbours, ascending.
+
+    Examples
+    --------
+    >>> from supcoord.problems.problem import parse_problem
+    >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [100, 0]]},
+    ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...                    "collision": {"buffer": 2.0}, "start": [6, 0, 0], "target": [6, 0, 0]})
+    >>> neighbourhood(p, 0), neighbourhood(p, 2)
+    ([0, 1], [2])
+    """
+    pairs = problem.pairs
+    near = pairs[np.any(pairs == robot, axis=1)].ravel()
+    return sorted({int(robot)} | {int(p) for p in near})
 
 
 class _Search:
@@ -250,12 +328,17 @@ class _Search:
         """Step 4 of the module docstring: the robots off target put back on the finer lattice."""
         assert self.best is not None
         back = set(self.best)
+        alone: dict[tuple, frozenset[int]] = {}  # (robot, its neighbours off target) -> robots certified
         while back:
             off = self.best - back
             reduced = reduced_problem(self.problem, off)
             clash = [(int(a), int(b)) for a, b, _ in reduced.collisions(reduced.target)]
             if clash:  # a robot put back ends on a neighbour left at its start
                 back -= {r for pair in clash for r in pair}
+                continue
+            kept = self.certified_alone(attempt, reduced, off, back, alone)
+            if kept:  # a neighbourhood alone has no plan: its robots put back stay off target
+                back -= kept
                 continue
             self.stats.finer_attempts += 1
             if self.progress is not None:
@@ -270,6 +353,26 @@ class _Search:
             if not kept:  # the finer lattice's certificate names no robot being put back
                 return
             back -= kept
+
+    def certified_alone(self, attempt: Attempt, reduced: Problem, off: frozenset[int], back: set[int],
+                        memo: dict[tuple, frozenset[int]]) -> set[int]:
+        """The robots of ``back`` that a certificate of one robot's neighbourhood alone on the
+        finer lattice (``attempt.alone``, where it has one) names; ``memo`` keeps each
+        neighbourhood's answer by its robots off target."""
+        alone = getattr(attempt, "alone", None)
+        if alone is None:
+            return set()
+        for r in sorted(back):
+            near = neighbourhood(self.problem, r)
+            key = (r, off & frozenset(near))
+            if key not in memo:
+                self.stats.finer_alone += 1
+                found = alone(reduced, near)
+                memo[key] = frozenset() if found is None else frozenset(int(m) for m in found[0])
+            kept = back & memo[key]
+            if kept:
+                return kept
+        return set()
 
     def fold(self) -> None:
         """Step 5 of the module docstring: the robots off target folded where ``P(best)`` with

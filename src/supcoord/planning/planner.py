@@ -41,7 +41,7 @@ from ..problems.refine import at_lattice, finer_steps
 from ..problems.trajectory import check_speed, with_motion
 from ..problems.validate import validate_plan
 from .improve import improve_plan
-from .partial import WHEN_INCOMPLETE, PartialResult, partial_search, reduced_problem
+from .partial import WHEN_INCOMPLETE, PartialResult, partial_search, reduced_problem, sub_problem
 from .move_layers import MoveLayers, move_layers, witness_moves  # noqa: F401  (old import path: positioners.planner)
 from .model import CoordinationModel
 from .routes import (ROUTES, SIMULTANEOUS_JOINTS, SIMULTANEOUS_NODES, SIMULTANEOUS_TABLE,  # noqa: F401
@@ -452,19 +452,30 @@ def _finer_attempt(problem: Problem, verdict: Solved, quick: _Settings, budget: 
 
 
 def _lattice_attempt(problem: Problem, steps: tuple[int, ...], quick: _Settings, budget: Budget) -> Callable:
-    """``P(O)`` solved on the lattice ``steps`` (the problem built there at the first call)."""
+    """``P(O)`` solved on the lattice ``steps`` (the problem built there at the first call);
+    its ``alone(P(O), members)`` solves the robots ``members`` of it alone there."""
     built: list[Problem] = []
 
-    def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
+    def finer(sub: Problem) -> Problem:
         if not built:
             built.append(at_lattice(problem, steps))
         off = frozenset(int(r) for r in np.flatnonzero(np.any(sub.target != problem.target, axis=1)))
-        solved = _solve(reduced_problem(built[0], off), quick, budget)
+        return reduced_problem(built[0], off)
+
+    def attempt(sub: Problem) -> Plan | tuple[list[int], str]:
+        solved = _solve(finer(sub), quick, budget)
         if solved.certificate is not None:
             return sorted(int(m) for m in solved.certificate.members), solved.certificate.how
         solved.plan.lattice = tuple(steps)
         return solved.plan
 
+    def alone(sub: Problem, members: list[int]) -> tuple[list[int], str] | None:
+        solved = _solve(sub_problem(finer(sub), members), quick, budget)
+        if solved.certificate is None:
+            return None
+        return sorted(members[int(m)] for m in solved.certificate.members), solved.certificate.how
+
+    attempt.alone = alone  # type: ignore[attr-defined]  (step 4's neighbourhoods alone)
     return attempt
 
 
