@@ -5,6 +5,8 @@ rules (``coupled_cases.exact_ranks``, no code shared with the route)."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from coupled_cases import exact_ranks, random_coupled_models
 
@@ -42,19 +44,27 @@ def test_the_astar_bounded_by_the_string_gives_the_exact_rank_and_a_shortest_wit
 
 @pytest.mark.timeout(60)
 def test_the_cpu_allowance_ends_the_rank_search_with_bounds_that_hold_the_exact_rank():
-    seen = 0
-    for model, rank, _ in _forcible_with_string(seed=3802, count=4, group_size=2):
+    """Bounds that hold the oracle's rank; where the lower bound already meets the string's
+    length, the rank itself (the string is a shortest one)."""
+    bounded = exact = 0
+    for model, rank, _ in _forcible_with_string(seed=3802, count=16, group_size=2):
         reports = []
         ctx = Context(progress=lambda stage, info: reports.append(stage))
         mine = ctx.progress
         c = settled_ccc(model, ctx, group_size=2, rank_cpu=1e-9)
-        bounds = c.stats["rank_bounds"]
-        assert c.forcible and c.rank is None and replay(model, c.witness) == bounds.upper
-        assert bounds.lower <= rank <= bounds.upper, (model.inst, bounds, rank)
-        assert bounds.stopped.startswith("the rank's CPU allowance of 1e-09 s ran out in ")
         assert ctx.progress is mine and reports  # the caller's callback heard the reports, and is back
-        seen += 1
-    assert seen >= 2, seen
+        assert c.forcible
+        if c.rank is not None:
+            assert "rank_bounds" not in c.stats and c.stats["rank_proved_by"] == "lower bound"
+            assert c.rank == rank == replay(model, c.witness), (model.inst, c.rank, rank)
+            exact += 1
+            continue
+        bounds = c.stats["rank_bounds"]
+        assert replay(model, c.witness) == bounds.upper
+        assert bounds.lower <= rank <= bounds.upper and bounds.lower < bounds.upper, (model.inst, bounds, rank)
+        assert bounds.stopped.startswith("the rank's CPU allowance of 1e-09 s ran out in ")
+        bounded += 1
+    assert bounded >= 2 and exact >= 1, (bounded, exact)
 
 
 @pytest.mark.parametrize("bad", [0, -1.0, float("inf"), True, "5"])
@@ -91,3 +101,21 @@ def test_the_explicit_searches_check_their_budget_as_they_go():
     check, seen = _raise_after(10**6)
     refine(model, forward=False, check=check)
     assert len(seen) > len(refine(model, forward=False).groups)  # within a group's recomputation too
+
+
+def test_the_command_line_sets_and_lifts_the_allowance(capsys):
+    """``supcoord paper --rank-cpu``: seconds pass to the route, ``none`` lifts the limit,
+    anything else is one line naming the option (exit 2)."""
+    from supcoord.cli.main import main
+
+    argv = ["paper", "--positioners", "5", "--steps", "8", "--model", "coupled", "--seed", "0", "--json"]
+    free = json.loads((main(argv + ["--rank-cpu", "none"]), capsys.readouterr())[1].out)
+    assert free["ccc"] and free["rank"] == free["witness_length"] and free.get("rank_bounds") is None
+    code, out = main(argv + ["--rank-cpu", "1e-9"]), capsys.readouterr()
+    cut = json.loads(out.out)  # seed 0's string (14 events) is longer than its bound (13) at the first report
+    assert code == 0 and cut["ccc"] and cut["rank"] is None and cut["witness_length"] == 14
+    assert cut["rank_bounds"]["lower"] <= free["rank"] <= cut["rank_bounds"]["upper"]
+    assert "allowance of 1e-09 s" in cut["rank_bounds"]["stopped"]
+    for bad in ("0", "-3", "inf", "soon"):
+        code, err = main(argv + ["--rank-cpu", bad]), capsys.readouterr().err
+        assert code == 2 and len(err.strip().splitlines()) == 1 and "--rank-cpu" in err, (bad, err)

@@ -62,9 +62,30 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--semantics", choices=["preemptive", "standard"], default="preemptive", help="forcibility semantics")
     p.add_argument("--count-transitions", action="store_true",
                    help="exact transition count on the monolithic route even beyond 256 events (slow)")
+    p.add_argument("--rank-cpu", type=_rank_cpu, default=None, metavar="SECONDS|none",
+                   help="coupled model, settled route: CPU seconds the search for the rank may take once a "
+                        "checked forcing string proved 'forcible' (default 50, supcoord.paper.settled.RANK_CPU; "
+                        "past them the rank is bounded); none: until it is proved or a budget ends")
     p.add_argument("--count-states", action="store_true",
                    help="coupled model: count the supervisor's reachable states even beyond 6 positioners "
                         "(a reachability that takes longer than synthesis and CCC together)")
+
+
+#: ``--rank-cpu none``: the search for the rank has no CPU allowance
+NO_LIMIT = "none"
+
+
+def _rank_cpu(text: str) -> float | str:
+    """``--rank-cpu``: positive seconds, or :data:`NO_LIMIT`."""
+    if text.strip().lower() == NO_LIMIT:
+        return NO_LIMIT
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be positive seconds or 'none', got {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be positive seconds or 'none', got {text!r}")
+    return value
 
 
 def _magnitude(count: int | None, log10: float | None) -> str:
@@ -76,7 +97,7 @@ def _magnitude(count: int | None, log10: float | None) -> str:
 
 #: parameters of :func:`~supcoord.paper.run.run_paper` whose errors are shown as the options of the same name
 OPTIONS = {name: "--" + name.replace("_", "-")
-           for name in ("positioners", "steps", "model", "seed", "semantics", "route", "count_states")}
+           for name in ("positioners", "steps", "model", "seed", "semantics", "route", "count_states", "rank_cpu")}
 
 
 def run(args: argparse.Namespace, console: Console) -> CommandResult:
@@ -84,10 +105,12 @@ def run(args: argparse.Namespace, console: Console) -> CommandResult:
     from ..paper.run import run_paper
 
     ctx = Context(args.backend, budget=budget_from_args(args), progress=console.progress)
+    # without --rank-cpu the library's allowance applies (RANK_CPU); "none" lifts it
+    rank = {} if args.rank_cpu is None else {"rank_cpu": None if args.rank_cpu == NO_LIMIT else args.rank_cpu}
     with options_named(OPTIONS):  # the library names its parameters
         paper = run_paper(args.positioners, args.steps, args.model, args.seed, args.semantics, ctx,
                           route=args.route, count_transitions=True if args.count_transitions else None,
-                          count_states=True if args.count_states else None)
+                          count_states=True if args.count_states else None, **rank)
     payload = paper.to_json()
     return CommandResult(payload, _text(paper, payload))
 

@@ -79,11 +79,16 @@ class RouteOptions:
     count_states : bool or None
         Coupled model, monolithic route: build the trim supervisor and count its states
         (None: up to :data:`AUTO_COUNT_COUPLED` positioners).
+    rank_cpu : float or None
+        Settled route: CPU seconds the search for the rank may take once a checked forcing
+        string has proved "forcible" (None: no limit); :func:`~supcoord.paper.run.run_paper`
+        passes :data:`~supcoord.paper.settled.RANK_CPU` unless told otherwise.
     """
 
     semantics: str = "preemptive"
     count_transitions: bool | None = None
     count_states: bool | None = None
+    rank_cpu: float | None = None
 
 
 @dataclass
@@ -132,7 +137,7 @@ def _settled(inst: PaperInstance, cm: CoupledModel | None, ctx: Context, options
     """CCC on the coupled model's settled states, without ``V`` (:mod:`.settled`)."""
     from .settled import settled_ccc
 
-    c = settled_ccc(cm, ctx)
+    c = settled_ccc(cm, ctx, rank_cpu=options.rank_cpu)
     built = start + c.stats["build_seconds"]
     return RouteResult(None, None, None, c, built, built)
 

@@ -61,7 +61,7 @@ from .coupled import CoupledModel, Geometry
 from .literal import PaperInstance, hex_neighbours, hex_sites, random_instance
 from .paper_routes import (AUTO_COUNT_COUPLED, AUTO_COUNT_EVENTS, MODELS, ROUTES, RouteOptions, RouteResult, default_route,
                      paper_route)
-from .settled import RankBounds, target_in_zone
+from .settled import RANK_CPU, RankBounds, target_in_zone
 
 __all__ = ["MODELS", "ROUTES", "AUTO_COUNT_EVENTS", "AUTO_COUNT_COUPLED", "PaperRun", "SupervisorSizes",
            "PaperTimings", "SettledSearch", "run_paper", "solve_paper", "coupled_instance", "default_route",
@@ -334,7 +334,8 @@ def _place(model: CoupledModel, orders: list[list[int]], max_tries: int) -> list
 def run_paper(positioners: int | None = None, steps: int | None = None, model: str = "literal", seed: int = 0,
               semantics: str = "preemptive", ctx: Context | None = None, *, route: str | None = None,
               instance: PaperInstance | None = None, geometry: Geometry | None = None,
-              count_transitions: bool | None = None, count_states: bool | None = None) -> PaperRun:
+              count_transitions: bool | None = None, count_states: bool | None = None,
+              rank_cpu: float | None = RANK_CPU) -> PaperRun:
     """Build, synthesize and check the seed paper's model for ``positioners`` positioners.
 
     Builds ``G`` and ``E = allevents(G) || S`` for a seeded random instance on the hex grid (or
@@ -365,6 +366,10 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
         Monolithic route: exact transition count beyond :data:`AUTO_COUNT_EVENTS` events (None: automatic).
     count_states : bool, optional
         Coupled model: the trim ``V`` and its sizes beyond :data:`AUTO_COUNT_COUPLED` positioners (None: auto).
+    rank_cpu : float or None, default :data:`~supcoord.paper.settled.RANK_CPU`
+        Settled route: CPU seconds (of this process, from the search's start) the search for
+        the rank may take once a checked forcing string has proved "forcible"; past them the
+        answer holds the verdict, the string and ``rank_bounds``.  None: no limit.
 
     Returns
     -------
@@ -408,7 +413,7 @@ def run_paper(positioners: int | None = None, steps: int | None = None, model: s
     cm = CoupledModel(inst, geometry) if model == "coupled" else None
     if chosen and route == "settled" and target_in_zone(cm) is not None:
         row = paper_route(model, "monolithic", semantics)  # a collision pending at the target: V may lose it
-    done = row.run(inst, cm, ctx, RouteOptions(semantics, count_transitions, count_states), t0)
+    done = row.run(inst, cm, ctx, RouteOptions(semantics, count_transitions, count_states, rank_cpu), t0)
     return _paper_run(inst, model, row.route, semantics, None if instance is not None else seed, done, t0)
 
 

@@ -453,8 +453,11 @@ def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int,
             raise
         stats.setdefault("build_seconds", round(time.perf_counter() - t0, 4))
         upper = found.length if search.found is None else min(found.length, start_cost + search.found)
-        stats.update(buckets=search.buckets, seconds=round(time.perf_counter() - t0, 4),
-                     rank_bounds=RankBounds(start_cost + search.lower, upper, exc.one_line()))
+        stats.update(buckets=search.buckets, seconds=round(time.perf_counter() - t0, 4))
+        if start_cost + search.lower == found.length:  # the bound meets the string: it is a shortest one
+            stats.update(rank_proved_by="lower bound")
+            return CCCResult(True, list(found.witness), found.length, [], stats)
+        stats.update(rank_bounds=RankBounds(start_cost + search.lower, upper, exc.one_line()))
         return CCCResult(True, list(found.witness), None, [], stats)
     t2 = time.perf_counter()
     stats.update(buckets=search.buckets, search_seconds=round(t2 - t1, 4), distance=search.found,
