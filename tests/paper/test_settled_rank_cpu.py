@@ -119,3 +119,16 @@ def test_the_command_line_sets_and_lifts_the_allowance(capsys):
     for bad in ("0", "-3", "inf", "soon"):
         code, err = main(argv + ["--rank-cpu", bad]), capsys.readouterr().err
         assert code == 2 and len(err.strip().splitlines()) == 1 and "--rank-cpu" in err, (bad, err)
+
+
+def test_the_option_help_states_the_librarys_default():
+    """``--rank-cpu``'s help names the default without importing the route (the parser stays
+    light): the number it states is :data:`RANK_CPU`."""
+    import argparse
+
+    from supcoord.cli.cmd_paper import add_arguments
+
+    parser = argparse.ArgumentParser()
+    add_arguments(parser)
+    option = next(a for a in parser._actions if "--rank-cpu" in a.option_strings)
+    assert f"default {RANK_CPU:g}, supcoord.paper.settled.RANK_CPU" in option.help
