@@ -58,13 +58,14 @@ class ChainGeometry:
     to its kinematics weakly (:func:`chain_geometry` keeps one per live kinematics object):
     whoever makes one keeps the kinematics alive while using it."""
 
-    __slots__ = ("_kin", "l1", "s0x", "s0y", "s1x", "s1y", "_angles", "_lengths")
+    __slots__ = ("_kin", "l1", "s0x", "s0y", "s1x", "s1y", "_angles", "_lengths", "_ends")
 
     def __init__(self, kin: Kinematics):
         self._kin = weakref.ref(kin)
         self.l1, ((self.s0x, self.s0y), (self.s1x, self.s1y)) = kin.chain()
         self._angles: dict[tuple[int, ...], tuple[float, float]] = {}
         self._lengths: dict[tuple[int, ...], float] = {}
+        self._ends: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[float, ...]] = {}
 
     @property
     def kin(self) -> Kinematics:
@@ -87,6 +88,21 @@ class ChainGeometry:
         out = self._lengths.get(d)
         if out is None:
             out = self._lengths[d] = float(self.kin.sweep_length(np.asarray(d, dtype=float)))
+        return out
+
+    def ends(self, q: tuple[int, ...], d: tuple[int, ...]) -> tuple[float, ...]:
+        """The motion ``q → q + d`` as :func:`chain_motion_collides` evaluates it, memoised:
+        ``(a0, Δa, b0, Δb, x0, y0, x1, y1, x0', y0', x1', y1')``, the chain angles at the start
+        and their changes, then the segment's end points at ``t = 0`` and ``t = 1`` relative to
+        the base (:func:`_pose` of a robot at the origin: placing it adds the base last, so
+        these are the same numbers)."""
+        key = (q, d)
+        out = self._ends.get(key)
+        if out is None:
+            a0, b0 = self.angles(q)
+            a1, b1 = self.angles(tuple(x + v for x, v in zip(q, d)))
+            p = (0.0, 0.0, self.l1, self.s0x, self.s0y, self.s1x, self.s1y, a0, a1 - a0, b0, b1 - b0)
+            out = self._ends[key] = p[7:] + _local_pose(p, 0.0) + _local_pose(p, 1.0)
         return out
 
 
@@ -172,23 +188,22 @@ def chain_motion_collides(geo_a: ChainGeometry, base_a: Sequence[float], qa: Seq
     if max(map(abs, da + db), default=0) > 1:
         raise InputError(f"a single motion turns each joint by at most one position, got {da} and {db}",
                          value=[da, db])
-    a0, b0 = geo_a.angles(qa)
-    a1, b1 = geo_a.angles(tuple(x + d for x, d in zip(qa, da)))
-    c0, e0 = geo_b.angles(qb)
-    c1, e1 = geo_b.angles(tuple(x + d for x, d in zip(qb, db)))
+    ea, eb = geo_a.ends(qa, da), geo_b.ends(qb, db)
+    ax, ay, bx, by = float(base_a[0]), float(base_a[1]), float(base_b[0]), float(base_b[1])
     length = geo_a.length(da) + geo_b.length(db)
-    dist = _distance((float(base_a[0]), float(base_a[1]), geo_a.l1, geo_a.s0x, geo_a.s0y, geo_a.s1x, geo_a.s1y,
-                      a0, a1 - a0, b0, b1 - b0),
-                     (float(base_b[0]), float(base_b[1]), geo_b.l1, geo_b.s0x, geo_b.s0y, geo_b.s1x, geo_b.s1y,
-                      c0, c1 - c0, e0, e1 - e0))
 
     # the end points first: they decide most motions (a collision at an end, or the bound of
     # the whole motion clears: then every interval's does, the distance being L-Lipschitz)
-    d_start, d_end = dist(0.0), dist(1.0)
+    d_start = segment_distance_floats(ea[4] + ax, ea[5] + ay, ea[6] + ax, ea[7] + ay,
+                                      eb[4] + bx, eb[5] + by, eb[6] + bx, eb[7] + by)
+    d_end = segment_distance_floats(ea[8] + ax, ea[9] + ay, ea[10] + ax, ea[11] + ay,
+                                    eb[8] + bx, eb[9] + by, eb[10] + bx, eb[11] + by)
     if d_start < bsum or d_end < bsum:
         return True
     if (d_start + d_end - length) / 2 >= bsum:
         return False
+    dist = _distance((ax, ay, geo_a.l1, geo_a.s0x, geo_a.s0y, geo_a.s1x, geo_a.s1y) + ea[:4],
+                     (bx, by, geo_b.l1, geo_b.s0x, geo_b.s0y, geo_b.s1x, geo_b.s1y) + eb[:4])
     grid = [k / coarse for k in range(coarse + 1)]
     ds = [d_start] + [dist(t) for t in grid[1:-1]] + [d_end]
     if min(ds) < bsum:
@@ -231,6 +246,16 @@ def _distance(pa: tuple, pb: tuple) -> Callable[[float], float]:
                                        fx + (r0x * k - r0y * n) + cx, fy + (r0x * n + r0y * k) + cy,
                                        fx + (r1x * k - r1y * n) + cx, fy + (r1x * n + r1y * k) + cy)
     return dist
+
+
+def _local_pose(p: tuple, t: float) -> tuple[float, float, float, float]:
+    """:func:`_pose` without adding the base ``p[:2]``: the segment relative to the base."""
+    _, _, l1, s0x, s0y, s1x, s1y, a0, da, b0, db = p
+    a = a0 + t * da
+    ab = a + b0 + t * db
+    ex, ey = l1 * cos(a), l1 * sin(a)
+    c, s = cos(ab), sin(ab)
+    return ex + (s0x * c - s0y * s), ey + (s0x * s + s0y * c), ex + (s1x * c - s1y * s), ey + (s1x * s + s1y * c)
 
 
 def _pose(p: tuple, t: float) -> tuple[float, float, float, float]:

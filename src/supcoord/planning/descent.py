@@ -52,7 +52,7 @@ from ..problems.problem import Problem
 from .caches import caches_for
 from .guards import blocked_bits, blocked_entries, blocked_lookup, conflict_graph, pair_graph
 
-__all__ = ["descent", "descent_step", "wanted_moves", "motion_free"]
+__all__ = ["descent", "descent_step", "wanted_moves", "motion_free", "MotionChecker"]
 
 
 def wanted_moves(problem: Problem, c: np.ndarray, p: int) -> list[list[tuple[int, int]]]:
@@ -75,6 +75,25 @@ def motion_free(problem: Problem, k: int, side: int, x: np.ndarray, dp: np.ndarr
     pair offsets (held in the problem's :class:`~supcoord.planning.caches.PlanningCache`)."""
     dq = (0,) * problem.kinematics.n_joints if dq is None else _ints(dq)
     return not _motion_hit(problem, caches_for(problem).motions, k, side, _ints(x), _ints(dp), _ints(y), dq, tol)
+
+
+class MotionChecker:
+    """:func:`motion_free` for many queries on one problem: the problem's cache and each pair's
+    geometry key looked up once (the schedules ask tens of thousands of times)."""
+
+    def __init__(self, problem: Problem, tol: float = DEFAULT_TOL):
+        self.problem, self.tol = problem, tol
+        self.motions = caches_for(problem).motions
+        self.standing = (0,) * problem.kinematics.n_joints
+        self._geometry: dict[int, tuple] = {}
+
+    def free(self, k: int, side: int, x: np.ndarray, dp: np.ndarray, y: np.ndarray, dq: np.ndarray | None) -> bool:
+        """``motion_free(problem, k, side, x, dp, y, dq, tol)``."""
+        geometry = self._geometry.get(k)
+        if geometry is None:
+            geometry = self._geometry[k] = self.problem.pair_geometry_key(k)
+        return not _motion_hit(self.problem, self.motions, k, side, _ints(x), _ints(dp), _ints(y),
+                               self.standing if dq is None else _ints(dq), self.tol, geometry)
 
 
 def _ints(v: Sequence[int] | np.ndarray) -> tuple[int, ...]:

@@ -42,7 +42,7 @@ from ..errors import InputError
 from ..geometry.collision import DEFAULT_TOL
 from ..problems.plan import Move, Plan, checked_step, event_name, lower_bound
 from ..problems.problem import Problem
-from .descent import motion_free
+from .descent import MotionChecker
 from .guards import blocked_entries, blocked_entry, blocked_lookup, conflict_graph, pair_graph
 
 __all__ = ["asap_schedule", "timeline_schedule", "plan_from_schedule", "SCHEDULES"]
@@ -76,6 +76,8 @@ class _Asap:
         self.last_any = np.full(n, -1, dtype=np.int64)
         self.cur = problem.start.astype(np.int64).copy()  # position after all moves placed so far
         self.deltas: dict[int, dict[int, np.ndarray]] = {}  # step -> {p: delta}
+        self.strides = [int(v) for v in kin._strides]
+        self.motions = MotionChecker(problem, tol)
 
     def place(self, k: int, move: Move) -> None:
         """Put move number ``k`` at the earliest step it may take (:func:`asap_schedule`)."""
@@ -112,21 +114,34 @@ class _Asap:
         for q in (q for q in qs if q in at or not single):
             k_pair, side = self.pair_of[(p, q)]
             start_q = problem.kin(q).wrap(self.cur[q] - at[q]) if q in at else self.cur[q]
-            if not motion_free(problem, k_pair, side, start_p, dp, start_q, at.get(q), self.tol):
+            if not self.motions.free(k_pair, side, start_p, dp, start_q, at.get(q)):
                 return False
         return True
 
     def _turn_hits(self, p: int, dp: np.ndarray, start_p: np.ndarray, standing: list[int]) -> bool:
         """Does ``p`` turning its one joint by ``dp`` from ``start_p`` hit a neighbour of
         ``standing``?  Against a standing neighbour one joint's turn is the exact swept
-        table's entry (:meth:`CollisionTables.swept_entries`)."""
-        joint = int(np.nonzero(dp)[0][0])
-        m = self.move_index[(joint, int(dp[joint]))]
-        i = self.kin.flat_position(start_p)
+        table's entry (:meth:`CollisionTables.swept_entries`; eager tables: read one bit at a
+        time, on Python ints, until one collides)."""
+        d = dp.tolist()
+        joint = next(j for j, v in enumerate(d) if v)
+        m = self.move_index[(joint, d[joint])]
+        i = self.flat(start_p)
+        tables = self.problem.tables()
+        if not tables.lazy:
+            for q in standing:
+                k, side = self.pair_of[(p, q)]
+                j = self.flat(self.cur[q])
+                if tables.swept_entry(k, side, m, i, j) if side == 0 else tables.swept_entry(k, side, m, j, i):
+                    return True
+            return False
         ks, sides = np.array([self.pair_of[(p, q)] for q in standing]).T
-        js = np.array([self.kin.flat_position(self.cur[q]) for q in standing])
-        return bool(self.problem.tables().swept_entries(ks, sides, m, np.where(sides == 0, i, js),
-                                                        np.where(sides == 0, js, i)).any())
+        js = np.array([self.flat(self.cur[q]) for q in standing])
+        return bool(tables.swept_entries(ks, sides, m, np.where(sides == 0, i, js), np.where(sides == 0, js, i)).any())
+
+    def flat(self, q: np.ndarray) -> int:
+        """:meth:`Kinematics.flat_position` of ``q`` on Python ints."""
+        return sum(v * st for v, st in zip(q.tolist(), self.strides))
 
     def configurations(self) -> list[np.ndarray]:
         """``c_0 … c_T`` of the placed moves."""
@@ -233,6 +248,7 @@ class _Placer:
         self.tl = [_Timeline(problem.start[p].astype(np.int64), nj) for p in range(problem.n)]
         self._single: dict[tuple[int, ...], int | None] = {}
         self.strides = [int(v) for v in kin._strides]
+        self.motions = MotionChecker(problem, tol)
 
     def single(self, d: np.ndarray) -> int | None:
         """The move index of the delta ``d`` if it turns one joint, else None (memoised by delta)."""
@@ -254,7 +270,7 @@ class _Placer:
         if dq is None and mp is not None:
             ks = self.side_of.get((p, q))
             return ks is None or not blocked_entry(self.problem, ks[0], ks[1], mp, self.flat(x), self.flat(y))
-        return motion_free(self.problem, k, side, x, dp, y, dq, self.tol)
+        return self.motions.free(k, side, x, dp, y, dq)
 
     def _prefetch(self, p: int, s: int, x: np.ndarray, dp: np.ndarray, x_end: np.ndarray) -> None:
         """Lazy tables: decide at once (:func:`.guards.blocked_entries`) every entry of a
