@@ -85,15 +85,15 @@ class MotionChecker:
         self.problem, self.tol = problem, tol
         self.motions = caches_for(problem).motions
         self.standing = (0,) * problem.kinematics.n_joints
-        self._geometry: dict[int, tuple] = {}
+        self._pairs: dict[int, tuple[tuple, tuple]] = {}  # pair -> (geometry key, _pair_arguments)
 
     def free(self, k: int, side: int, x: np.ndarray, dp: np.ndarray, y: np.ndarray, dq: np.ndarray | None) -> bool:
         """``motion_free(problem, k, side, x, dp, y, dq, tol)``."""
-        geometry = self._geometry.get(k)
-        if geometry is None:
-            geometry = self._geometry[k] = self.problem.pair_geometry_key(k)
+        pair = self._pairs.get(k)
+        if pair is None:
+            pair = self._pairs[k] = (self.problem.pair_geometry_key(k), _pair_arguments(self.problem, k))
         return not _motion_hit(self.problem, self.motions, k, side, _ints(x), _ints(dp), _ints(y),
-                               self.standing if dq is None else _ints(dq), self.tol, geometry)
+                               self.standing if dq is None else _ints(dq), self.tol, *pair)
 
 
 def _ints(v: Sequence[int] | np.ndarray) -> tuple[int, ...]:
@@ -102,20 +102,28 @@ def _ints(v: Sequence[int] | np.ndarray) -> tuple[int, ...]:
 
 
 def _motion_hit(problem: Problem, cache: dict, k: int, side: int, x: tuple[int, ...], dx: tuple[int, ...],
-                y: tuple[int, ...], dy: tuple[int, ...], tol: float, geometry: tuple | None = None) -> bool:
+                y: tuple[int, ...], dy: tuple[int, ...], tol: float, geometry: tuple | None = None,
+                pair: tuple | None = None) -> bool:
     """:func:`motion_free`'s verdict negated, on poses and deltas given as tuples of ints, read
     from or written to ``cache`` (the problem's ``PlanningCache.motions``); ``geometry``: the
-    pair's :meth:`Problem.pair_geometry_key` when the caller has it."""
+    pair's :meth:`Problem.pair_geometry_key` and ``pair`` its :func:`_pair_arguments`, when the
+    caller has them."""
     key = (problem.pair_geometry_key(k) if geometry is None else geometry) + \
         ((x, dx, y, dy) if side == 0 else (y, dy, x, dx))
     hit = cache.get(key)
     if hit is None:
-        a, b = (int(v) for v in problem.pairs[k])
-        bsum = float(problem.buffers[a] + problem.buffers[b])
-        hit = cache[key] = chain_motion_collides(chain_geometry(problem.kin(a)), problem.bases[a], key[-4], key[-3],
-                                                 chain_geometry(problem.kin(b)), problem.bases[b], key[-2], key[-1],
+        geo_a, base_a, geo_b, base_b, bsum = _pair_arguments(problem, k) if pair is None else pair
+        hit = cache[key] = chain_motion_collides(geo_a, base_a, key[-4], key[-3], geo_b, base_b, key[-2], key[-1],
                                                  bsum, tol)
     return hit
+
+
+def _pair_arguments(problem: Problem, k: int) -> tuple:
+    """``(geo_a, base_a, geo_b, base_b, bsum)`` of pair ``k``: :func:`chain_motion_collides`'s
+    arguments but the poses (bases as tuples of floats, the buffer sum as a float)."""
+    a, b = (int(v) for v in problem.pairs[k])
+    return (chain_geometry(problem.kin(a)), tuple(map(float, problem.bases[a])), chain_geometry(problem.kin(b)),
+            tuple(map(float, problem.bases[b])), float(problem.buffers[a] + problem.buffers[b]))
 
 
 class _Lookups:
@@ -141,16 +149,19 @@ class _Lookups:
         self._starts: dict[tuple, list[tuple[int, list[int]]]] = {}
         self._poses: dict[tuple, list[int]] = {}
         self._bytes: dict[tuple, tuple[memoryview, int, int]] = {}
-        self._wanted: dict[tuple[int, tuple[int, ...]], list[list[tuple[int, int]]]] = {}
+        self.targets = [tuple(row) for row in problem.target.tolist()]
+        self._wanted: dict[tuple[tuple[int, ...], tuple[int, ...]], list[list[tuple[int, int]]]] = {}
         self._geometry: dict[int, tuple] = {}
+        self._pairs: dict[int, tuple] = {}
         self._own: dict[tuple, bool] = {}
 
     def wanted(self, c: np.ndarray, cp: tuple[int, ...], p: int) -> list[list[tuple[int, int]]]:
-        """:func:`wanted_moves` of ``p`` at ``c`` (``cp``: ``c[p]`` as a tuple), memoised by ``(p, cp)``
-        (the target is the problem's)."""
-        out = self._wanted.get((p, cp))
+        """:func:`wanted_moves` of ``p`` at ``c`` (``cp``: ``c[p]`` as a tuple), memoised by ``c[p]``
+        and ``p``'s target (all it depends on: robots share the lattice)."""
+        key = (cp, self.targets[p])
+        out = self._wanted.get(key)
         if out is None:
-            out = self._wanted[p, cp] = wanted_moves(self.problem, c, p)
+            out = self._wanted[key] = wanted_moves(self.problem, c, p)
         return out
 
     def own_blocked(self, p: int, cp: tuple[int, ...], d: tuple[int, ...], tol: float) -> bool:
@@ -166,6 +177,13 @@ class _Lookups:
         out = self._geometry.get(k)
         if out is None:
             out = self._geometry[k] = self.problem.pair_geometry_key(k)
+        return out
+
+    def pair(self, k: int) -> tuple:
+        """:func:`_pair_arguments` of pair ``k``, memoised."""
+        out = self._pairs.get(k)
+        if out is None:
+            out = self._pairs[k] = _pair_arguments(self.problem, k)
         return out
 
     def pose(self, q: np.ndarray, ms: Sequence[tuple[int, int]]) -> np.ndarray:
@@ -273,7 +291,7 @@ def _compatible(T: _Lookups, c: Sequence[tuple[int, ...]], chosen: dict[int, lis
         if not mq and len(mp) < 2:
             continue  # one joint against a standing neighbour: the swept table of (1)
         dp = T.delta(mp) if dp is None else dp
-        if _motion_hit(problem, T.motions, k, side, c[p], dp, c[q], T.delta(mq), tol, T.geometry(k)):
+        if _motion_hit(problem, T.motions, k, side, c[p], dp, c[q], T.delta(mq), tol, T.geometry(k), T.pair(k)):
             return False
     return True
 
