@@ -149,6 +149,8 @@ class _Lookups:
         self._starts: dict[tuple, list[tuple[int, list[int]]]] = {}
         self._poses: dict[tuple, list[int]] = {}
         self._bytes: dict[tuple, tuple[memoryview, int, int]] = {}
+        self._rows: dict[tuple, dict[int, int]] = {}  # table_rows()
+        self._masks: dict[tuple, int] = {}  # pose_mask()
         self.targets = [tuple(row) for row in problem.target.tolist()]
         self._wanted: dict[tuple[tuple[int, ...], tuple[int, ...]], list[list[tuple[int, int]]]] = {}
         self._geometry: dict[int, tuple] = {}
@@ -223,12 +225,32 @@ class _Lookups:
         """``(buf, row, width)``: :func:`.guards.blocked_bits` of ``(k, side)`` as a flat view of
         bytes (no copy), entry ``B[m, i, j]`` bit ``7 − j % 8`` of ``buf[m·row + i·width + j // 8]``;
         one per pair geometry, like the tables."""
-        key = self.problem.pair_geometry_key(k) + (side,)
+        key = self.geometry(k) + (side,)
         out = self._bytes.get(key)
         if out is None:
             bits = blocked_bits(self.problem, k, side)
             flat = memoryview(np.ascontiguousarray(bits).reshape(-1))
             out = self._bytes[key] = (flat, bits.shape[1] * bits.shape[2], bits.shape[2])
+        return out
+
+    def table_rows(self, k: int, side: int) -> dict[int, int]:
+        """Rows ``B[m, i, :]`` of :meth:`table_bytes` read so far as Python ints (big-endian, so
+        entry ``j`` is bit ``8·width − 1 − j``), by their offset ``m·row + i·width``; one per pair
+        geometry, like the tables."""
+        key = self.geometry(k) + (side,)
+        out = self._rows.get(key)
+        if out is None:
+            out = self._rows[key] = {}
+        return out
+
+    def pose_mask(self, cq: tuple[int, ...], mq: Sequence[tuple[int, int]], width: int) -> int:
+        """The bits of :meth:`poses` ``(cq, mq)`` in a row of :meth:`table_rows` of ``width`` bytes,
+        memoised."""
+        key = (cq, tuple(mq), width)
+        out = self._masks.get(key)
+        if out is None:
+            top = 8 * width - 1
+            out = self._masks[key] = sum({1 << (top - j) for j in self.poses(cq, mq)})
         return out
 
     def delta(self, ms: Sequence[tuple[int, int]]) -> tuple[int, ...]:
@@ -262,11 +284,14 @@ def _serialisable(T: _Lookups, k: int, side: int, cp: tuple[int, ...], mp: list,
                         jj.append(j)
         return not mm or not blocked_entries(T.problem, k, side, mm, ii, jj).any()
     buf, row, width = T.table_bytes(k, side)
-    q_bits = [(j >> 3, 1 << (7 - (j & 7))) for j in js]
+    rows, mask = T.table_rows(k, side), T.pose_mask(cq, mq, width)
     for m, flats in starts:
         for i in flats:
             at = m * row + i * width
-            if any(buf[at + byte] & mask for byte, mask in q_bits):
+            bits = rows.get(at)
+            if bits is None:
+                bits = rows[at] = int.from_bytes(buf[at:at + width], "big")
+            if bits & mask:
                 return False
     return True
 
