@@ -92,6 +92,11 @@ def test_angles_off_by_a_turn_are_the_same_only_where_the_robot_wraps():
     # within the tolerance and just beyond it
     assert _angles_off(problem, poses + [0.5 * ANGLE_TOL, 0.0], poses, rows=1).tolist() == []
     assert _angles_off(problem, poses + [0.0, 3 * ANGLE_TOL], poses, rows=0).tolist() == [0, 1, 2]
+    # exactly ANGLE_TOL off agrees ("more than ANGLE_TOL" differs): from 0 the difference is exact
+    zero = np.zeros((1, 2))
+    assert (zero + [ANGLE_TOL, 0.0] - zero)[0, 0] == ANGLE_TOL
+    assert _angles_off(problem, zero + [ANGLE_TOL, 0.0], zero, rows=1).tolist() == []
+    assert _angles_off(problem, zero + [0.0, -ANGLE_TOL], zero, rows=1).tolist() == []
 
 
 @pytest.fixture(scope="module")
