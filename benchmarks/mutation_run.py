@@ -13,6 +13,7 @@ a run stays within minutes on two shared cores; hypothesis runs its ``quick`` pr
     python benchmarks/mutation_run.py --show store           # the diff of every surviving mutant of a module
     python benchmarks/mutation_run.py --sample 40 --seed 0 validator   # a uniform random sample of 40 mutants
     python benchmarks/mutation_run.py --sample 40 --seed 1 validator   # a fresh one (earlier samples left out)
+    python benchmarks/mutation_run.py timing --mutants NAME …  # these mutants again (the module first)
 
 A module too large to check whole in one sitting is checked on a uniform random sample of
 its mutants (``--sample``, a fixed ``--seed``): verdicts of earlier runs are reused for the
@@ -488,6 +489,8 @@ def main() -> int:
     unknown = [m for m in args.modules + ([args.show] if args.show else []) if m not in BY_NAME]
     if unknown:
         ap.error(f"unknown module {unknown[0]!r}: one of {', '.join(BY_NAME)}")
+    if args.mutants and not args.modules:  # --mutants takes every name after it, a module too
+        ap.error("--mutants needs a module before it, e.g. `timing --mutants NAME …`")
     if args.list:
         for t in TARGETS:
             print(f"{t.name:13} {', '.join(t.files)}\n{'':13} tests: {' '.join(t.tests)}")
