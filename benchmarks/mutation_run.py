@@ -14,6 +14,7 @@ a run stays within minutes on two shared cores; hypothesis runs its ``quick`` pr
     python benchmarks/mutation_run.py --sample 40 --seed 0 validator   # a uniform random sample of 40 mutants
     python benchmarks/mutation_run.py --sample 40 --seed 1 validator   # a fresh one (earlier samples left out)
     python benchmarks/mutation_run.py timing --mutants NAME …  # these mutants again (the module first)
+    python benchmarks/mutation_run.py --no-report timing     # run without rewriting the report after
 
 A module too large to check whole in one sitting is checked on a uniform random sample of
 its mutants (``--sample``, a fixed ``--seed``): verdicts of earlier runs are reused for the
@@ -482,6 +483,7 @@ def main() -> int:
     ap.add_argument("--children", type=int, default=1, help="mutants run at once (default 1: the machine is shared)")
     ap.add_argument("--limit", type=float, default=1500, help="seconds per module (default 1500)")
     ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--no-report", action="store_true", help="run the modules without writing the report after")
     ap.add_argument("--sample", type=int, metavar="SIZE",
                     help="check a uniform random sample of SIZE of each module's mutants (estimate, see the report)")
     ap.add_argument("--seed", type=int, default=0, help="the sample's random seed (default 0)")
@@ -506,7 +508,7 @@ def main() -> int:
         else:
             r = run(BY_NAME[name], args.work, args.children, args.limit, args.mutants)
         print(f"{name}: {r['seconds']:.0f} s, exit {r['exit']}", flush=True)
-    if args.report or args.modules:
+    if args.report or (args.modules and not args.no_report):
         report(args.work, args.out)
     return 0
 
