@@ -101,10 +101,11 @@ TARGETS = [
            ("tests/problems/test_validate.py", "tests/problems/test_validate_messages.py",
             "tests/problems/test_validate_mutants.py", "tests/problems/test_partial_plan.py",
             "tests/problems/test_trajectories.py", "tests/planning/test_start_repair.py",
-            # the angle and trajectory plans, partial plans, bisection and repaired starts, not the
-            # 95 s timing of tight plans nor the repairs' solves (4-10 s) (test_safety: see the notes)
+            "tests/planning/test_start_repair_timed.py",
+            # the angle and trajectory plans, partial plans, bisection and repaired starts (timed too),
+            # not the 95 s timing of tight plans nor the repairs' solves (3-10 s) (test_safety: see the notes)
             "-k", "not tight_plans_passes_the_validator and not random_colliding_starts"
-                  " and not solve_from_a_colliding_start")),
+                  " and not solve_from_a_colliding_start and not timed_plans_from_colliding_starts")),
     Target("descent", "window certificates and descent", ("planning/descent.py", "planning/windows.py"),
            ("tests/planning/test_planner.py", "tests/planning/test_descent_properties.py",
             "tests/planning/test_windows_mutants.py",
