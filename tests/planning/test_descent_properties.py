@@ -151,6 +151,9 @@ def test_motion_free_is_the_swept_check_of_the_two_robots_it_names(side):
                                     p.buffers[a] + p.buffers[b] + extra) for extra in (0.0, DEFAULT_TOL))
     got = np.array([motion_free(p, 0, side, x[i], dx[i], y[i], None) for i in range(len(x))])
     assert not (got & ~free).any() and not (clear & ~got).any()
+    # poses and turns given as Python sequences (its annotation's other form) read the same
+    assert [motion_free(p, 0, side, x[i].tolist(), tuple(dx[i]), list(y[i]), [0]) for i in range(0, len(x), 7)] \
+        == got[::7].tolist()
     assert 0 < clear.sum() and free.sum() < len(got)
 
 

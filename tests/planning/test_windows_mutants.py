@@ -207,6 +207,9 @@ def test_window_counters_are_what_the_observer_and_the_model_see(monkeypatch):
     rec = _Windows()
     res = solve_local(p, CoordinationModel(p), dataclasses.replace(FORCED, observer=rec))
     assert len(rec.few) >= 2 and res.stats.windows_few_displaced == len(rec.few)
+    # every window that reached its goal is counted under its number of members
+    solved = [str(len(o.members)) for o in rec.windows if o.kind == "solved"]
+    assert res.stats.window_sizes == {n: solved.count(n) for n in set(solved)}
     assert relaxed and res.stats.relaxed_checks == len(relaxed)
     assert res.stats.window_peak_nodes > 0
 

@@ -92,6 +92,11 @@ def test_angles_off_by_a_turn_are_the_same_only_where_the_robot_wraps():
     # within the tolerance and just beyond it
     assert _angles_off(problem, poses + [0.5 * ANGLE_TOL, 0.0], poses, rows=1).tolist() == []
     assert _angles_off(problem, poses + [0.0, 3 * ANGLE_TOL], poses, rows=0).tolist() == [0, 1, 2]
+    # exactly ANGLE_TOL off agrees ("more than ANGLE_TOL" differs): from 0 the difference is exact
+    zero = np.zeros((1, 2))
+    assert (zero + [ANGLE_TOL, 0.0] - zero)[0, 0] == ANGLE_TOL
+    assert _angles_off(problem, zero + [ANGLE_TOL, 0.0], zero, rows=1).tolist() == []
+    assert _angles_off(problem, zero + [0.0, -ANGLE_TOL], zero, rows=1).tolist() == []
 
 
 @pytest.fixture(scope="module")
@@ -214,3 +219,49 @@ def test_a_robot_lying_on_a_fixed_obstacle_is_a_collision():
         q = dataclasses.replace(p, obstacles=np.array([seg]), obstacle_buffers=np.array([0.5]))
         one, plan = _standing(q, [[0, 6], [6, 6]])
         assert validate_plan(one, plan).valid == (not hit)
+
+
+# --- survivors of the validator's samples (seeds 0 and 1) once its selection had the angle,
+# trajectory and repair plans: the bases it checks, the wording of a trajectory plan's
+# problems, the angles of a repaired plan -------------------------------------------------
+
+def test_the_bases_checked_are_the_layouts_points_not_the_problems_copy():
+    # two arms stretched at each other (alpha 0° and 180°, beta 0°) 30 mm apart: 22.4 + 22.4 > 30
+    data = dict(copy.deepcopy(TWO_AB), start=[[0, 0], [6, 0]], target=[[0, 0], [6, 0]])
+    data["layout"]["xy"] = [[0, 0], [30.0, 0]]
+    problem = parse_problem(data, check_collisions=False)
+    moved = dataclasses.replace(problem, bases=np.array([[0.0, 0.0], [100.0, 0.0]]))
+    r = validate_plan(moved, Plan("complete", [problem.start]))
+    assert not r.valid and r.problems[0].startswith("configuration 0: positioners 0 and 1 collide")
+
+
+def test_the_collision_of_trajectories_given_besides_configurations_is_named_as_theirs():
+    data = dict(copy.deepcopy(TWO_AB), start=[[0, 0], [3, 6]], target=[[0, 0], [3, 6]])
+    data["layout"]["xy"] = [[0, 0], [30.0, 0]]
+    problem = parse_problem(data, check_collisions=False)
+    # the configurations stay put: robot 0 stretched along +x (its beta link 7.4 to 22.4 mm),
+    # robot 1 folded at alpha 90° (its beta link on x = 30 mm): 7.6 mm apart.  The
+    # trajectories turn robot 1's alpha to 180° and back: its elbow comes to x = 30 - 7.4 =
+    # 22.6 mm, 0.2 mm from robot 0's tip, under the 4 mm clearance
+    trajs = [{"alpha": np.array([[0.0, 0.0], [2.0, 0.0]]), "beta": np.array([[0.0, 0.0], [2.0, 0.0]])},
+             {"alpha": np.array([[0.0, 90.0], [1.0, 180.0], [2.0, 90.0]]),
+              "beta": np.array([[0.0, 180.0], [2.0, 180.0]])}]
+    r = validate_plan(problem, Plan("complete", [problem.start], trajectories=trajs, motion_time_s=2.0))
+    assert not r.valid and any("collide" in p for p in r.problems)
+    assert all(p.startswith("trajectories: ") for p in r.problems), r.problems
+
+
+def test_a_repaired_plans_angles_must_be_its_configurations():
+    from supcoord.problems.repair_phase import Repair, parse_problem_any_start
+
+    # robot 0 turns away from robot 1 (rotary arms 15 mm, bases 20 mm apart), the whole plan a repair
+    two = {"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
+           "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 24}, "collision": {"buffer": 2.0}}
+    problem = parse_problem_any_start(dict(two, start=[1, 12], target=[6, 12]))
+    confs = [np.array([[q], [12]]) for q in range(1, 7)]
+    plan = Plan("complete", confs, repair=Repair((0,), 5, True, 1))
+    angles = [problem.angles_deg(c).tolist() for c in confs]
+    assert validate_plan(problem, dataclasses.replace(plan, angles_deg=angles)).valid
+    angles[2][0][0] += 5.0
+    r = validate_plan(problem, dataclasses.replace(plan, angles_deg=angles))
+    assert not r.valid and r.problems == ["angles_deg[2] are not the angles of configurations[2] (positioners 0)"]

@@ -37,3 +37,11 @@ def test_supcon_stats_are_the_documented_ones():
 def test_supcon_naive_names_its_supervisor_v_by_default():
     V = supcon_naive(PLANT, SPEC)
     assert V.name == "V" and V.n_states == 3
+
+
+def test_supcon_effort_names_the_stages_docs_synthesis_lists():
+    # docs/synthesis.md ("where the effort goes"): the stages in the order they run
+    ctx = Context()
+    res = supcon(from_explicit(ctx, PLANT), from_explicit(ctx, SPEC))
+    assert list(res.stats["effort"]["stage_seconds"]) == ["product", "reachable", "nonblocking", "controllable",
+                                                          "accessible", "counts"]
