@@ -410,14 +410,14 @@ class _Search:
         parked where that puts others back on target; each success becomes the best set."""
         assert self.best is not None
 
-        def attempt(off: frozenset[int], parked: dict[int, tuple[int, ...]]) -> bool:
+        def attempt(off: frozenset[int], parked: dict[int, tuple[int, ...]]) -> frozenset[int] | None:
             found = self.attempt_fn(reduced_problem(self.problem, off, parked=parked))
             if isinstance(found, Plan):
                 self.best, self.parked, self.best_plan = off, dict(parked), found
-                return True
+                return None
             if not set(found[0]) & set(parked):  # a certificate with every member at its start or target
                 self.add(found[0], off, found[1])
-            return False
+            return frozenset(int(m) for m in found[0])
 
         def excluded(off: frozenset[int], parked: frozenset[int]) -> bool:
             return any(g.forbids(off) and not g.members & parked for g in self.nogoods)

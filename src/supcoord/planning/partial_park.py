@@ -15,9 +15,10 @@ current ends (:func:`blockers`), to *park* each of them at a position of its own
   among them), the positions of held robots, the ends of the other robots off target;
 
 the one that collides with the fewest targets of robots still off target (so that they may
-follow), then the nearest to its start (:func:`parking_cell`).  ``q`` is then put back on
+follow), then the nearest to its start (:func:`parking_cells`).  ``q`` is then put back on
 target where the whole problem with those ends has a plan (the planner's own attempt: exact
-and checked as every other step).  Each success changes the ends around it, so the robots off
+and checked as every other step); where the planner's certificate names a parked robot, the
+next positions in that order are tried, up to :data:`PARK_TRIES`.  Each success changes the ends around it, so the robots off
 target are tried again, until a round puts none back: the cascade.
 
 A robot is parked only where that puts a robot back on target; every other robot off target
@@ -37,7 +38,11 @@ from ..geometry.segments import segment_distance
 from ..problems.plan import Plan
 from ..problems.problem import Problem
 
-__all__ = ["ParkedRobot", "ParkStats", "reachable_cells", "blockers", "parking_cell", "park"]
+__all__ = ["PARK_TRIES", "ParkedRobot", "ParkStats", "reachable_cells", "blockers", "parking_cells", "park"]
+
+#: parking positions tried per robot put back: the best of :func:`parking_cells` first, the
+#: next where the planner's certificate names a parked robot
+PARK_TRIES = 4
 
 
 @dataclass(frozen=True)
@@ -154,11 +159,11 @@ def blockers(problem: Problem, ends: np.ndarray, robot: int, off: frozenset[int]
     return [-1] if -1 in out else out
 
 
-def parking_cell(problem: Problem, robot: int, ends: np.ndarray, others_off: frozenset[int],
-                 cells: tuple[np.ndarray, np.ndarray]) -> tuple[int, ...] | None:
-    """Where to park ``robot`` (module docstring): among its reachable ``cells``
-    (:func:`reachable_cells`), one free of every other robot at ``ends``, colliding with the
-    fewest targets of the robots ``others_off``, then the nearest; None where every cell collides.
+def parking_cells(problem: Problem, robot: int, ends: np.ndarray, others_off: frozenset[int],
+                  cells: tuple[np.ndarray, np.ndarray]) -> list[tuple[int, ...]]:
+    """Where to park ``robot`` (module docstring): its reachable ``cells``
+    (:func:`reachable_cells`) free of every other robot at ``ends``, those colliding with the
+    fewest targets of the robots ``others_off`` first, then the nearest.
 
     Parameters
     ----------
@@ -175,8 +180,8 @@ def parking_cell(problem: Problem, robot: int, ends: np.ndarray, others_off: fro
 
     Returns
     -------
-    tuple of int or None
-        The lattice position (one index per joint).
+    list of tuple of int
+        The lattice positions (one index per joint), best first; empty where every cell collides.
 
     Examples
     --------
@@ -187,8 +192,8 @@ def parking_cell(problem: Problem, robot: int, ends: np.ndarray, others_off: fro
     ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
     ...                    "collision": {"buffer": 2.0}, "start": [0, 6], "target": [5, 0]})
     >>> ends = np.array([[0], [0]])
-    >>> parking_cell(p, 0, ends, frozenset(), reachable_cells(p, 0))
-    (11,)
+    >>> parking_cells(p, 0, ends, frozenset(), reachable_cells(p, 0))[:3]
+    [(11,), (10,), (9,)]
     """
     positions, depth = cells
     bad = np.zeros(len(positions), dtype=bool)
@@ -198,13 +203,11 @@ def parking_cell(problem: Problem, robot: int, ends: np.ndarray, others_off: fro
         if other in others_off:
             crowd += _hits(problem, robot, positions, other, problem.target[other])
     ok = np.flatnonzero(~bad)
-    if not len(ok):
-        return None
-    best = ok[np.lexsort((depth[ok], crowd[ok]))[0]]
-    return tuple(int(v) for v in positions[best])
+    return [tuple(int(v) for v in positions[i]) for i in ok[np.lexsort((depth[ok], crowd[ok]))]]
 
 
-def park(problem: Problem, off: frozenset[int], ends: np.ndarray, attempt: Callable[[frozenset, dict], bool],
+def park(problem: Problem, off: frozenset[int], ends: np.ndarray,
+         attempt: Callable[[frozenset, dict], frozenset[int] | None],
          order: list[int], excluded: Callable[[frozenset[int], frozenset[int]], bool], stats: ParkStats) -> None:
     """Step 6 of :mod:`.partial` (module docstring): put robots of ``off`` back on target by
     parking the robots off target whose ends block their targets.
@@ -218,8 +221,9 @@ def park(problem: Problem, off: frozenset[int], ends: np.ndarray, attempt: Calla
     ends : ndarray of int, shape (N, J)
         Where every robot ends now (lattice indices).
     attempt : callable
-        ``attempt(off, parked)``: does the problem with the robots of ``off`` off target (at
-        their starts, or at ``parked[r]``) have a complete plan?  (It keeps the plan.)
+        ``attempt(off, parked)``: None where the problem with the robots of ``off`` off target
+        (at their starts, or at ``parked[r]``) has a complete plan (it keeps the plan), else
+        the robots its certificate names.
     order : list of int
         The robots of ``off`` in the order to try them (the most valuable first).
     excluded : callable
@@ -259,27 +263,33 @@ def _key(problem: Problem, q: int, ends: np.ndarray) -> tuple:
 
 def _try_one(problem: Problem, q: int, off: frozenset[int], ends: np.ndarray, parked: dict, cells: dict,
              tried: set, attempt: Callable, excluded: Callable, stats: ParkStats) -> dict | None:
-    """Put ``q`` back on target, parking the robots that block its target: the positions of
-    the robots it parked where the problem so has a plan, else None."""
+    """Put ``q`` back on target, parking the robots that block its target (the ``k``-th
+    position of :func:`parking_cells` each, ``k < PARK_TRIES``): the positions of the robots it
+    parked where the problem so has a plan, else None."""
     rest = off - {q}
     block = blockers(problem, ends, q, rest)
     if -1 in block:
         return None
-    trial = np.array(ends, copy=True)
-    trial[q] = problem.target[q]
-    moved: dict[int, tuple[int, ...]] = {}
-    for r in block:
-        if r not in cells:
-            cells[r] = reachable_cells(problem, r)
-        at = parking_cell(problem, r, trial, rest - {r}, cells[r])
-        if at is None:
+    for k in range(PARK_TRIES if block else 1):
+        trial = np.array(ends, copy=True)
+        trial[q] = problem.target[q]
+        moved: dict[int, tuple[int, ...]] = {}
+        for r in block:
+            if r not in cells:
+                cells[r] = reachable_cells(problem, r)
+            ranked = parking_cells(problem, r, trial, rest - {r}, cells[r])
+            if len(ranked) <= k:
+                return None
+            trial[r] = moved[r] = ranked[k]
+        key = _key(problem, q, trial)
+        now = {**{r: a for r, a in parked.items() if r in rest}, **moved}
+        if key in tried or excluded(rest, frozenset(now)) or problem.collisions(trial):
+            continue
+        tried.add(key)
+        stats.attempts += 1
+        named = attempt(rest, now)
+        if named is None:
+            return moved
+        if not named & set(moved):  # the certificate holds wherever these robots park
             return None
-        trial[r] = at
-        moved[r] = at
-    key = _key(problem, q, trial)
-    now = {**{r: a for r, a in parked.items() if r in rest}, **moved}
-    if key in tried or excluded(rest, frozenset(now)) or problem.collisions(trial):
-        return None
-    tried.add(key)
-    stats.attempts += 1
-    return moved if attempt(rest, now) else None
+    return None
