@@ -30,9 +30,11 @@ What is guaranteed: the plan is a plan of the whole problem (validated); every r
 target names a certified group it belongs to, or ``"not proven: budget"``; ``optimal`` is
 true where the exact search ran, or where the robots off target are as few as disjoint
 groups certified with ``A = ∅`` (each needs one of its members off target), and then the
-number on target is the maximum of the discretised single-move model over plans whose
-robots off target end at their starts.  ``on_target_bound`` is ``N`` minus the number of
-such disjoint groups: no plan has more robots on target.
+number on target is at least the maximum of the discretised single-move model over plans
+whose robots off target end at their starts (step 6 may put more back).
+``on_target_bound`` is ``N`` minus the number of such disjoint groups: no plan has more
+robots on target, wherever its robots off target end; where ``on_target`` equals it, no
+plan of the discretised model has more.
 
 4. **Finer lattice** (where ``solve`` was given one and the whole problem has a certificate
    there too): the robots off target are put back all at once on the finer lattice; each
@@ -56,6 +58,15 @@ such disjoint groups: no plan has more robots on target.
    where ``P(O)`` so has a plan; the others end at their starts (rotary robots, which have no
    joint to fold, always).  The set ``O`` and the guarantees above are those of the search
    with every robot off target at its start (not run after step 4's finer lattice).
+
+6. **Parking** (:mod:`.partial_park`; not after step 4's finer lattice): a robot off target
+   whose start blocks the target of another robot off target (their segments collide) is
+   parked at another position of its lattice that it reaches from its start, free of every
+   other robot's end, and that robot is put back on target where ``P(O)`` with those ends
+   has a plan; then the next, until a round puts none back (a cascade: the robot put back
+   frees its own start).  Such robots end ``"parked"`` at the position named in their entry.
+   Nogoods found with a parked member are not kept (they speak of robots at their starts).
+   Step 5 then folds only the robots left at their starts.
 
 If the budget ends during the search, the best set found so far is the answer (its robots
 named by their certificates, ``optimal`` false); before any set is found, every robot not
