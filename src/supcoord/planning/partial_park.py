@@ -92,11 +92,10 @@ def reachable_cells(problem: Problem, robot: int) -> tuple[np.ndarray, np.ndarra
     >>> from supcoord.problems.problem import parse_problem
     >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
     ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
-    ...                    "collision": {"buffer": 2.0}, "start": [6, 0], "target": [6, 0],
-    ...                    "offline": [1]})
+    ...                    "collision": {"buffer": 2.0}, "start": [6, 0], "target": [6, 0]})
     >>> cells, depth = reachable_cells(p, 0)
-    >>> len(cells), cells[0].tolist(), int(depth.max())
-    (11, [6], 10)
+    >>> len(cells), cells[:3].ravel().tolist(), int(depth.max())
+    (12, [6, 7, 5], 6)
     """
     kin = problem.kin(robot)
     free = ~_held_hits(problem, robot)
@@ -185,15 +184,16 @@ def parking_cells(problem: Problem, robot: int, ends: np.ndarray, others_off: fr
 
     Examples
     --------
-    Robot 0 at its start (6) sits on robot 1's target (0); position 5 is free of it.
+    Robot 0 at its start (position 0, pointing at robot 1) sits on robot 1's target (6,
+    pointing back): the nearest positions free of it come first.
 
     >>> from supcoord.problems.problem import parse_problem
     >>> p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [20, 0]]},
     ...                    "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
-    ...                    "collision": {"buffer": 2.0}, "start": [0, 6], "target": [5, 0]})
-    >>> ends = np.array([[0], [0]])
+    ...                    "collision": {"buffer": 2.0}, "start": [0, 0], "target": [5, 6]})
+    >>> ends = np.array([[0], [6]])
     >>> parking_cells(p, 0, ends, frozenset(), reachable_cells(p, 0))[:3]
-    [(11,), (10,), (9,)]
+    [(2,), (10,), (3,)]
     """
     positions, depth = cells
     bad = np.zeros(len(positions), dtype=bool)

@@ -233,7 +233,7 @@ def parse_off_target(value: Any, n: int, where: str | None = None) -> tuple[OffT
     Examples
     --------
     >>> parse_off_target([{"robot": 1, "reason": "not proven: budget", "certificate": None, "end": "start"}], 2)
-    (OffTarget(robot=1, reason='not proven: budget', certificate=None, end='start'),)
+    (OffTarget(robot=1, reason='not proven: budget', certificate=None, end='start', at=None),)
     """
     if not isinstance(value, list) or len(value) > n:
         raise _fail(f"off_target must be a list of at most {n} entries, got {_short(value)}", value, where)
