@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 
 import supcoord.planning.partial as partial_module
-from supcoord.errors import FormatError
+from supcoord.errors import BudgetExceeded, FormatError
 from supcoord.planning import solve
+from supcoord.planning.partial import partial_search
 from supcoord.planning.partial_park import reachable_cells
 from supcoord.problems.off_target import parse_off_target
 from supcoord.problems.problem import parse_problem
@@ -100,3 +101,24 @@ def test_parking_reaches_the_oracles_most_on_target_anywhere(seed):
     assert any(e.end == "parked" for e in plan.off_target)
     assert validate_plan(problem, plan).valid
     assert oracle_check_steps(plan_ends(data, plan), plan.configurations) is None
+
+
+def test_a_budget_ending_while_parking_keeps_the_answer_found_before(hex7):
+    """The budget ends at the first sub-problem with a robot parked: the answer is the search's
+    set before parking, every robot at its start, named by its certificate; still valid."""
+    problem, _ = hex7
+    verdict = solve(problem, when_incomplete="infeasible", improve=0)
+
+    def attempt(sub):
+        elsewhere = np.any((sub.target != problem.start) & (sub.target != problem.target), axis=1)
+        if elsewhere.any():
+            raise BudgetExceeded("time budget exceeded")
+        plan = solve(sub, when_incomplete="infeasible", improve=0, simultaneous=None)
+        return plan if plan.status == "complete" else (plan.stats["certificate"], "search")
+
+    found = partial_search(problem, verdict.stats["certificate"], "search", attempt)
+    assert found.stats.method == "budget" and not found.optimal and found.on_target == 3
+    assert found.stats.parking.attempts >= 1 and found.stats.parking.put_back == []
+    assert all(e.end == "start" and e.certificate is not None for e in found.off_target)
+    plan = dataclasses.replace(found.plan, status="partial", off_target=found.off_target)
+    assert validate_plan(problem, plan).valid

@@ -18,8 +18,9 @@ the one that collides with the fewest targets of robots still off target (so tha
 follow), then the nearest to its start (:func:`parking_cells`).  ``q`` is then put back on
 target where the whole problem with those ends has a plan (the planner's own attempt: exact
 and checked as every other step); where the planner's certificate names a parked robot, the
-next positions in that order are tried, up to :data:`PARK_TRIES`.  Each success changes the ends around it, so the robots off
-target are tried again, until a round puts none back: the cascade.
+next positions in that order are tried, up to :data:`PARK_TRIES`.  Each success changes the
+ends around it, so the robots off target are tried again, until a round puts none back: the
+cascade.
 
 A robot is parked only where that puts a robot back on target; every other robot off target
 keeps its end.  What is not searched: parking positions other than the one chosen per
@@ -161,8 +162,8 @@ def blockers(problem: Problem, ends: np.ndarray, robot: int, off: frozenset[int]
 def parking_cells(problem: Problem, robot: int, ends: np.ndarray, others_off: frozenset[int],
                   cells: tuple[np.ndarray, np.ndarray]) -> list[tuple[int, ...]]:
     """Where to park ``robot`` (module docstring): its reachable ``cells``
-    (:func:`reachable_cells`) free of every other robot at ``ends``, those colliding with the
-    fewest targets of the robots ``others_off`` first, then the nearest.
+    (:func:`reachable_cells`) other than its target, free of every other robot at ``ends``,
+    those colliding with the fewest targets of the robots ``others_off`` first, then the nearest.
 
     Parameters
     ----------
@@ -196,7 +197,7 @@ def parking_cells(problem: Problem, robot: int, ends: np.ndarray, others_off: fr
     [(2,), (10,), (3,)]
     """
     positions, depth = cells
-    bad = np.zeros(len(positions), dtype=bool)
+    bad = np.all(positions == problem.target[robot], axis=1)  # there it would be on target, not parked
     crowd = np.zeros(len(positions), dtype=np.int64)
     for other in _neighbours(problem, robot):
         bad |= _hits(problem, robot, positions, other, ends[other])
