@@ -464,8 +464,9 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
                    progress: Callable | None = None, finer: Attempt | Sequence[Attempt] | None = None,
                    off_target_end: str = "start") -> PartialResult:
     """After a certificate (``members``, ``how``) of ``problem``: the robots to leave off
-    target, and a complete plan of the problem with them ending at their starts (module
-    docstring: the greedy, exact and minimal steps, and what is guaranteed).
+    target, and a complete plan of the problem with them ending at their starts, or parked
+    where that frees other robots' targets (module docstring: the greedy, exact, minimal and
+    parking steps, and what is guaranteed).
 
     Parameters
     ----------

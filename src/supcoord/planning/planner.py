@@ -333,7 +333,8 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
     when_incomplete : str, default "partial"
         What to answer where no plan puts every robot on its target (one of
         :data:`~.partial.WHEN_INCOMPLETE`): ``"partial"`` a plan with the most robots on target
-        that the search of :mod:`.partial` finds, each robot off target ending at its start;
+        that the search of :mod:`.partial` finds, each robot off target ending at its start
+        (or parked where that frees another robot's target: step 6 of :mod:`.partial`);
         ``"infeasible"`` the verdict and its certificate.
     off_target_end : str, default "start"
         Where a partial plan's robots off target end (one of
