@@ -54,7 +54,8 @@ def test_check_refuses_a_partial_plan_that_moves_a_listed_robot(tmp_path):
 
 
 #: three alpha-beta robots in a line; robots 1 and 2 cannot both reach their targets and, on
-#: this lattice, neither can alone: the plan leaves both at their starts
+#: this lattice, neither can with the other at its start: the plan parks robot 1 elsewhere
+#: (step 6 of the partial search), which frees robot 2's target
 ALPHA_BETA_PARTIAL = {"layout": {"kind": "points", "xy": [[0.0, 0.0], [7.552936, 0.0], [15.105873, 0.0]]},
                       "kinematics": {"kind": "alpha-beta", "alpha": 7.274, "beta": 15.357, "alpha_steps": 12,
                                      "beta_steps": 3, "beta_range": [150.0, 180.0]},
@@ -69,10 +70,13 @@ def test_a_partial_plan_is_exported_to_jaeger_and_checked_against_its_ends(tmp_p
     code, out, err = run("solve", str(problem), "--out", plan, "--jaeger", there, "--jaeger-reverse", back,
                          "--rpm", "2")
     assert code == 0, err
-    assert "2 robots off target stay at their starts (positioner IDs 1, 2; PLAN.json off_target)" in out
-    assert [e["robot"] for e in json.loads(Path(plan).read_text())["off_target"]] == [1, 2]
+    assert "1 robots off target stay at their starts or park (1 parked) (positioner IDs 1; PLAN.json off_target)" in out
+    assert "parked off target: robot 1 at lattice position (" in out and "freeing the target of robot 2" in out
+    data = json.loads(Path(plan).read_text())
+    assert [(e["robot"], e["end"]) for e in data["off_target"]] == [(1, "parked")]
     paths = json.loads(Path(there).read_text())
-    assert paths["1"]["alpha"][-1][0] == 270.0 and paths["0"]["alpha"][-1][0] == 120.0  # start; target
+    assert paths["1"]["alpha"][-1][0] == data["angles_deg"][-1][1][0] != 270.0  # parked, not at its start
+    assert paths["0"]["alpha"][-1][0] == 120.0  # its target
     for f, extra in ((there, []), (back, ["--reverse"])):
         code, out, _ = run("check", str(problem), plan, "--jaeger", f, "--json", *extra)
         assert code == 0 and json.loads(out)["valid"], out

@@ -6,6 +6,7 @@ import io
 import json
 from pathlib import Path
 
+import supcoord.planning.partial as partial_module
 from supcoord.cli.main import main
 
 #: three alpha-beta robots in a line, no plan puts all three on target; robot 2 can end folded
@@ -22,7 +23,9 @@ def run(*argv):
     return code, out.getvalue(), err.getvalue()
 
 
-def test_folded_ends_are_written_checked_and_exported_to_jaeger(tmp_path):
+def test_folded_ends_are_written_checked_and_exported_to_jaeger(tmp_path, monkeypatch):
+    """Without parking (step 6 of the partial search), which would park robot 2 instead."""
+    monkeypatch.setattr(partial_module, "park", lambda *args: None)
     problem = tmp_path / "problem.json"
     problem.write_text(json.dumps(LINE))
     plan, paths = tmp_path / "plan.json", tmp_path / "paths.json"

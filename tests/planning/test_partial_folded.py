@@ -12,6 +12,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+import supcoord.planning.partial as partial_module
 from supcoord.errors import InputError
 from supcoord.planning import solve
 from supcoord.planning.partial import partial_search
@@ -27,8 +28,19 @@ LINE = {"layout": {"kind": "points", "xy": [[0.0, 0.0], [7.552936, 0.0], [15.105
 
 @pytest.fixture(scope="module")
 def plans():
+    """The plans without parking (step 6), which here would park robot 2 instead of folding it."""
     problem = parse_problem(LINE)
-    return problem, solve(problem, improve=0), solve(problem, improve=0, off_target_end="folded")
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(partial_module, "park", lambda *args: None)
+        return problem, solve(problem, improve=0), solve(problem, improve=0, off_target_end="folded")
+
+
+def test_parking_puts_more_robots_on_target_than_folding(plans):
+    problem, _, folded = plans
+    parked = solve(problem, improve=0, off_target_end="folded")
+    assert folded.on_target == 0 and parked.on_target == 2
+    assert [(e.robot, e.end) for e in parked.off_target] == [(2, "parked")]
+    assert validate_plan(problem, parked).valid
 
 
 def test_folded_end_keeps_the_robots_off_target_and_folds_where_reachable(plans):

@@ -240,8 +240,16 @@ def _check_jaeger_limits(problem, args: argparse.Namespace) -> None:
 def _summary(problem, plan, speed: float | None) -> str:
     """The answer in words: the plan's size and work, or the verdict and its reason."""
     if plan.status == "partial":
+        parked = plan.stats.get("partial", {}).get("parked", [])
         return (f"PARTIAL: {plan.reason}\n"
-                + ("optimal: no plan of the discretised model leaves less off target" if plan.optimal else
+                + ("".join(f"parked off target: robot {p['robot']} at lattice position "
+                           f"({', '.join(map(str, p['at']))}), freeing the target of robot"
+                           f"{'s' if len(p['freed']) > 1 else ''} {', '.join(map(str, p['freed']))}\n"
+                           for p in parked))
+                + ("optimal: no plan of the discretised model leaves less off target"
+                   if plan.optimal and plan.on_target == plan.on_target_bound else
+                   f"optimal among plans whose robots off target end at their starts; at most "
+                   f"{plan.on_target_bound} robots could be on target" if plan.optimal else
                    f"not proven optimal: at most {plan.on_target_bound} robots could be on target")
                 + f"; makespan {plan.makespan}, {plan.stats.get('seconds', 0):.2f} s")
     if plan.status != "complete":
@@ -294,7 +302,9 @@ def _write_jaeger(problem, plan, args: argparse.Namespace, files: dict) -> str:
                  f"{paths.speed_deg_s:g} deg/s)")
         if plan.status == "partial":
             keys, folded = positioner_keys(problem), sum(e.end == "folded" for e in plan.off_target)
+            parked = sum(e.end == "parked" for e in plan.off_target)
             text += (f"; {len(plan.off_target)} robots off target stay at their starts"
                      + (f" or fold ({folded} folded)" if folded else "")
+                     + (f" or park ({parked} parked)" if parked else "")
                      + f" (positioner IDs {', '.join(keys[e.robot] for e in plan.off_target)}; PLAN.json off_target)")
     return text

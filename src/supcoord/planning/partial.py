@@ -30,9 +30,11 @@ What is guaranteed: the plan is a plan of the whole problem (validated); every r
 target names a certified group it belongs to, or ``"not proven: budget"``; ``optimal`` is
 true where the exact search ran, or where the robots off target are as few as disjoint
 groups certified with ``A = ∅`` (each needs one of its members off target), and then the
-number on target is the maximum of the discretised single-move model over plans whose
-robots off target end at their starts.  ``on_target_bound`` is ``N`` minus the number of
-such disjoint groups: no plan has more robots on target.
+number on target is at least the maximum of the discretised single-move model over plans
+whose robots off target end at their starts (step 6 may put more back).
+``on_target_bound`` is ``N`` minus the number of such disjoint groups: no plan has more
+robots on target, wherever its robots off target end; where ``on_target`` equals it, no
+plan of the discretised model has more.
 
 4. **Finer lattice** (where ``solve`` was given one and the whole problem has a certificate
    there too): the robots off target are put back all at once on the finer lattice; each
@@ -57,6 +59,15 @@ such disjoint groups: no plan has more robots on target.
    joint to fold, always).  The set ``O`` and the guarantees above are those of the search
    with every robot off target at its start (not run after step 4's finer lattice).
 
+6. **Parking** (:mod:`.partial_park`; not after step 4's finer lattice): a robot off target
+   whose start blocks the target of another robot off target (their segments collide) is
+   parked at another position of its lattice that it reaches from its start, free of every
+   other robot's end, and that robot is put back on target where ``P(O)`` with those ends
+   has a plan; then the next, until a round puts none back (a cascade: the robot put back
+   frees its own start).  Such robots end ``"parked"`` at the position named in their entry.
+   Nogoods found with a parked member are not kept (they speak of robots at their starts).
+   Step 5 then folds only the robots left at their starts.
+
 If the budget ends during the search, the best set found so far is the answer (its robots
 named by their certificates, ``optimal`` false); before any set is found, every robot not
 yet decided stays at its start with ``"not proven: budget"``.
@@ -77,6 +88,7 @@ from ..problems.off_target import (BUDGET_REASON, ENDS, GroupCertificate, OffTar
 from ..problems.plan import Plan, lower_bound
 from ..problems.problem import Problem
 from .graph_order import conflict_components
+from .partial_park import ParkedRobot, ParkStats, park
 
 __all__ = ["WHEN_INCOMPLETE", "EXACT_ROBOTS", "Nogood", "PartialStats", "PartialResult", "partial_search",
            "reduced_problem", "sub_problem", "neighbourhood"]
@@ -132,6 +144,9 @@ class PartialStats:
     finer_alone: int = 0
     #: step 5: sub-problems tried with robots off target folded (in ``to_json`` where any was)
     fold_attempts: int = 0
+    #: step 6: the parking step's sub-problems, robots parked and robots it put back
+    #: (:mod:`.partial_park`; in ``to_json`` where it tried any)
+    parking: ParkStats = field(default_factory=ParkStats)
 
     def to_json(self) -> dict:
         """The ``stats["partial"]`` object of PLAN.json."""
@@ -139,6 +154,8 @@ class PartialStats:
                 "candidates": list(self.candidates), "seconds": self.seconds,
                 "finer_attempts": self.finer_attempts, "finer_put_back": list(self.finer_put_back),
                 **({"fold_attempts": self.fold_attempts} if self.fold_attempts else {}),
+                **({"park_attempts": self.parking.attempts, "park_put_back": list(self.parking.put_back),
+                    "parked": [p.to_json() for p in self.parking.parked]} if self.parking.attempts else {}),
                 **({"finer_alone": self.finer_alone} if self.finer_alone else {})}
 
 
@@ -156,11 +173,15 @@ class PartialResult:
     stats: PartialStats
 
 
-def reduced_problem(problem: Problem, off: frozenset[int], folded: frozenset[int] = frozenset()) -> Problem:
-    """``P(off)``: ``problem`` with each robot of ``off`` ending at its start, or folded if it
-    is in ``folded`` (:func:`~supcoord.problems.off_target.folded_ends`); the same collision
-    tables and caches (:func:`dataclasses.replace`)."""
-    entries = tuple(OffTarget(r, "", None, "folded" if r in folded else "start") for r in sorted(off))
+def reduced_problem(problem: Problem, off: frozenset[int], folded: frozenset[int] = frozenset(),
+                    parked: dict[int, tuple[int, ...]] | None = None) -> Problem:
+    """``P(off)``: ``problem`` with each robot of ``off`` ending at its start, folded if it is
+    in ``folded`` (:func:`~supcoord.problems.off_target.folded_ends`), or at ``parked[r]`` (a
+    lattice position) if it is parked; the same collision tables and caches
+    (:func:`dataclasses.replace`)."""
+    parked = parked or {}
+    entries = tuple(OffTarget(r, "", None, "parked" if r in parked else "folded" if r in folded else "start",
+                              parked.get(r)) for r in sorted(off))
     return replace(problem, target=partial_end(problem.start, problem.target, entries,
                                                folded_ends(problem) if folded else None))
 
@@ -248,6 +269,7 @@ class _Search:
         self.best: frozenset[int] | None = None
         self.best_plan: Plan | None = None
         self.folded: frozenset[int] = frozenset()  # the robots of ``best`` that end folded (step 5)
+        self.parked: dict[int, tuple[int, ...]] = {}  # the robots of ``best`` parked, and where (step 6)
         self.stats = PartialStats()
 
     def key(self, off: frozenset[int]) -> tuple:
@@ -380,10 +402,11 @@ class _Search:
         assert self.best is not None
         folded = folded_ends(self.problem)
         rules = getattr(self.problem, "joint_rules", None) or {}
-        can = sorted(r for r in self.best if r not in rules and np.any(folded[r] != self.problem.start[r]))
+        can = sorted(r for r in self.best if r not in rules and r not in self.parked
+                     and np.any(folded[r] != self.problem.start[r]))
         for more in [can] + ([[r] for r in can] if len(can) > 1 else []):
             want = self.folded | frozenset(more)
-            reduced = reduced_problem(self.problem, self.best, want)
+            reduced = reduced_problem(self.problem, self.best, want, self.parked)
             if want == self.folded or reduced.collisions(reduced.target):
                 continue
             self.stats.fold_attempts += 1
@@ -393,11 +416,33 @@ class _Search:
                 if len(more) == len(can):
                     return
 
+    def park(self) -> None:
+        """Step 6 of the module docstring (:func:`.partial_park.park`): robots off target
+        parked where that puts others back on target; each success becomes the best set."""
+        assert self.best is not None
+
+        def attempt(off: frozenset[int], parked: dict[int, tuple[int, ...]]) -> frozenset[int] | None:
+            found = self.attempt_fn(reduced_problem(self.problem, off, parked=parked))
+            if isinstance(found, Plan):
+                self.best, self.parked, self.best_plan = off, dict(parked), found
+                return None
+            if not set(found[0]) & set(parked):  # a certificate with every member at its start or target
+                self.add(found[0], off, found[1])
+            return frozenset(int(m) for m in found[0])
+
+        def excluded(off: frozenset[int], parked: frozenset[int]) -> bool:
+            return any(g.forbids(off) and not g.members & parked for g in self.nogoods)
+
+        order = sorted(self.best, key=lambda r: (-self.weight[r], self.priority[r], r))
+        park(self.problem, self.best, reduced_problem(self.problem, self.best).target, attempt, order, excluded,
+             self.stats.parking)
+
     def reason(self, r: int, off: frozenset[int]) -> OffTarget:
-        """Why ``r`` is off target in ``off``: a nogood that excludes putting it back, else the
-        one it was chosen for, else the budget."""
+        """Why ``r`` is off target in ``off``: a nogood that excludes putting it back (none of
+        its other members parked), else the one it was chosen for, else the budget."""
         back = off - {r}
-        tight = [g for g in self.nogoods if r in g.members and g.forbids(back)]
+        parked = set(self.parked) - {r}
+        tight = [g for g in self.nogoods if r in g.members and g.forbids(back) and not g.members & parked]
         nogood = tight[0] if tight else self.chosen.get(r)
         if nogood is None:
             return OffTarget(r, BUDGET_REASON, None)
@@ -419,8 +464,9 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
                    progress: Callable | None = None, finer: Attempt | Sequence[Attempt] | None = None,
                    off_target_end: str = "start") -> PartialResult:
     """After a certificate (``members``, ``how``) of ``problem``: the robots to leave off
-    target, and a complete plan of the problem with them ending at their starts (module
-    docstring: the greedy, exact and minimal steps, and what is guaranteed).
+    target, and a complete plan of the problem with them ending at their starts, or parked
+    where that frees other robots' targets (module docstring: the greedy, exact, minimal and
+    parking steps, and what is guaranteed).
 
     Parameters
     ----------
@@ -498,6 +544,11 @@ def partial_search(problem: Problem, members: list[int], how: str, attempt: Atte
             break  # the answer found so far stands
         if search.stats.finer_put_back:
             break
+    if not budget_ended and search.best and not search.stats.finer_put_back:
+        try:
+            search.park()
+        except BudgetExceeded:
+            budget_ended = True  # the robots parked and put back so far stand
     if off_target_end == "folded" and not budget_ended and search.best and not search.stats.finer_put_back:
         try:
             search.fold()
@@ -518,7 +569,8 @@ def _result(search: _Search, budget_ended: bool, seconds: float) -> PartialResul
         off = search.best
         if budget_ended:
             stats.method = "budget"
-    entries = tuple(replace(search.reason(r, off), end="folded" if r in search.folded else "start") for r in sorted(off))
+    entries = tuple(replace(search.reason(r, off), end="parked" if r in search.parked else
+                            "folded" if r in search.folded else "start", at=search.parked.get(r)) for r in sorted(off))
     uniform = problem.weight is None or len(set(problem.weight)) == 1
     bound = problem.n - search.packing()
     on_target = problem.n - len(off)
@@ -530,6 +582,4 @@ def _result(search: _Search, budget_ended: bool, seconds: float) -> PartialResul
     plan = search.best_plan
     if plan is None:
         plan = Plan("complete", [problem.start.copy()], 0, lower_bound(reduced_problem(problem, off)), [], "", {})
-    if optimal and uniform:  # the most robots on target: no plan has more
-        bound = on_target
     return PartialResult(plan, entries, optimal, on_target, bound, stats)

@@ -333,7 +333,8 @@ def solve(problem: Problem, route: Route | str = "local", *, budget: Budget | No
     when_incomplete : str, default "partial"
         What to answer where no plan puts every robot on its target (one of
         :data:`~.partial.WHEN_INCOMPLETE`): ``"partial"`` a plan with the most robots on target
-        that the search of :mod:`.partial` finds, each robot off target ending at its start;
+        that the search of :mod:`.partial` finds, each robot off target ending at its start
+        (or parked where that frees another robot's target: step 6 of :mod:`.partial`);
         ``"infeasible"`` the verdict and its certificate.
     off_target_end : str, default "start"
         Where a partial plan's robots off target end (one of
@@ -493,8 +494,9 @@ def _final_plan(problem: Problem, settings: _Settings, budget: Budget, found: Pa
     asked for where the search's own plan had neither (its plan if the budget ends first)."""
     off = frozenset(e.robot for e in found.off_target)
     folded = frozenset(e.robot for e in found.off_target if e.end == "folded")
+    parked = {e.robot: e.at for e in found.off_target if e.end == "parked"}  # step 6 of .partial
     lattice = found.plan.lattice  # the finer lattice's plan (step 4 of .partial), else None
-    reduced = reduced_problem(problem if lattice is None else at_lattice(problem, lattice), off, folded)
+    reduced = reduced_problem(problem if lattice is None else at_lattice(problem, lattice), off, folded, parked)
     if found.stats.method != "budget" and (settings.improve != 0 or settings.speed is not None):
         try:
             solved = _solve(reduced, replace(settings, simultaneous=None, finer=None, validation="none"), budget)

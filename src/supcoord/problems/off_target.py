@@ -2,8 +2,9 @@
 
 A ``partial`` plan (``docs/formats.md``, PLAN.json) puts every robot on its target except
 the ones it lists in ``off_target``.  Each entry says where the robot ends (``end``:
-``"start"``, back at its start configuration, which is collision-free; or ``"folded"``, its
-arm folded, :func:`folded_ends`) and why it is off target:
+``"start"``, back at its start configuration, which is collision-free; ``"folded"``, its
+arm folded, :func:`folded_ends`; or ``"parked"`` at the lattice position ``at``, one it reaches
+from its start, chosen to free its neighbours' targets) and why it is off target:
 
 - ``"certificate: group [i, j, ...] has no plan with these robots on target"``: the
   robots of the group, with every other robot removed, cannot all reach their targets
@@ -28,12 +29,16 @@ from ..errors import FormatError
 from ..geometry.kinematics import _is_int
 from ..geometry.layout import _short
 
-__all__ = ["OffTarget", "GroupCertificate", "ENDS", "BUDGET_REASON", "MAX_REASON", "group_reason", "partial_summary",
+__all__ = ["OffTarget", "GroupCertificate", "ENDS", "ENTRY_ENDS", "BUDGET_REASON", "MAX_REASON", "group_reason",
+           "partial_summary",
            "off_target_to_json", "parse_off_target", "partial_end", "folded_ends"]
 
 #: where a robot off target may end: ``"start"`` (its start configuration) or ``"folded"``
 #: (:func:`folded_ends`)
 ENDS = ("start", "folded")
+#: where a robot of PLAN.json's ``off_target`` may end: :data:`ENDS`, or ``"parked"`` at the
+#: lattice position its entry's ``at`` gives (the partial search's parking step)
+ENTRY_ENDS = ENDS + ("parked",)
 #: the reason of a robot whose target the budget left undecided
 BUDGET_REASON = "not proven: budget"
 #: longest reason or ``how`` read from a PLAN.json (characters)
@@ -60,18 +65,23 @@ class GroupCertificate:
 @dataclass(frozen=True)
 class OffTarget:
     """One robot a partial plan leaves off its target: ``robot`` (index), ``reason`` (one
-    line), ``certificate`` (the group that shows it, or None for ``"not proven: budget"``)
-    and ``end`` (one of :data:`ENDS`)."""
+    line), ``certificate`` (the group that shows it, or None for ``"not proven: budget"``),
+    ``end`` (one of :data:`ENTRY_ENDS`) and ``at``, the lattice position (one index per joint)
+    of a robot whose ``end`` is ``"parked"`` (None otherwise)."""
 
     robot: int
     reason: str
     certificate: GroupCertificate | None
     end: str = "start"
+    at: tuple[int, ...] | None = None
 
     def to_json(self) -> dict:
-        """``{"robot", "reason", "certificate", "end"}`` as in PLAN.json."""
-        return {"robot": int(self.robot), "reason": self.reason,
-                "certificate": None if self.certificate is None else self.certificate.to_json(), "end": self.end}
+        """``{"robot", "reason", "certificate", "end"}`` as in PLAN.json, and ``"at"`` where parked."""
+        out = {"robot": int(self.robot), "reason": self.reason,
+               "certificate": None if self.certificate is None else self.certificate.to_json(), "end": self.end}
+        if self.at is not None:
+            out["at"] = [int(v) for v in self.at]
+        return out
 
 
 def group_reason(certificate: GroupCertificate) -> str:
@@ -104,8 +114,12 @@ def partial_summary(n: int, on_target: int, entries: tuple[OffTarget, ...], limi
     def why(e: OffTarget) -> str:
         return e.reason[len("certificate: "):] if e.reason.startswith("certificate: ") else e.reason
 
-    listed = "; ".join(f"robot {e.robot} ({why(e)}{'; ends folded' if e.end == 'folded' else ''})"
-                       for e in entries[:limit])
+    def where(e: OffTarget) -> str:
+        if e.end == "parked" and e.at is not None:
+            return f"; parked at lattice position ({', '.join(map(str, e.at))})"
+        return "; ends folded" if e.end == "folded" else ""
+
+    listed = "; ".join(f"robot {e.robot} ({why(e)}{where(e)})" for e in entries[:limit])
     more = f"; and {len(entries) - limit} more" if len(entries) > limit else ""
     return f"{on_target} of {n} robots reach their targets; off target: {listed}{more}"
 
@@ -118,8 +132,8 @@ def off_target_to_json(entries: tuple[OffTarget, ...]) -> list[dict]:
 def partial_end(start: np.ndarray, target: np.ndarray, entries: tuple[OffTarget, ...],
                 folded: np.ndarray | None = None) -> np.ndarray:
     """The configuration a partial plan ends at: ``target`` with each listed robot at its
-    end (its row of ``start``, or of ``folded`` where its ``end`` is ``"folded"``), a new
-    ``(N, J)`` array.
+    end (its row of ``start``, of ``folded`` where its ``end`` is ``"folded"``, its ``at``
+    where ``"parked"``), a new ``(N, J)`` array.
 
     Examples
     --------
@@ -130,7 +144,12 @@ def partial_end(start: np.ndarray, target: np.ndarray, entries: tuple[OffTarget,
     for e in entries:
         if e.end == "folded" and folded is None:
             raise ValueError(f"robot {e.robot} ends folded: partial_end needs the folded configuration")
-        end[e.robot] = (folded if e.end == "folded" else start)[e.robot]
+        if e.end == "parked":
+            if e.at is None:
+                raise ValueError(f"robot {e.robot} is parked: its entry needs the position 'at'")
+            end[e.robot] = e.at
+        else:
+            end[e.robot] = (folded if e.end == "folded" else start)[e.robot]
     return end
 
 
@@ -190,6 +209,18 @@ def _certificate(value: Any, n: int, name: str, where: str | None) -> GroupCerti
     return GroupCertificate(members, _text(value.get("how", ""), f"{name}.how", where), at_start)
 
 
+def _at(value: Any, end: str, name: str, where: str | None) -> tuple[int, ...] | None:
+    """A parked robot's lattice position (a short list of non-negative ints); None for other ends."""
+    if end != "parked":
+        if value is not None:
+            raise _fail(f"{name} is given only where end is \"parked\", got {_short(value)}", value, where)
+        return None
+    if not isinstance(value, list) or not 1 <= len(value) <= 8 or not all(_is_int(v) and v >= 0 for v in value):
+        raise _fail(f"{name} must list a parked robot's lattice indices (non-negative ints), got {_short(value)}",
+                    value, where)
+    return tuple(int(v) for v in value)
+
+
 def parse_off_target(value: Any, n: int, where: str | None = None) -> tuple[OffTarget, ...]:
     """PLAN.json's ``off_target`` list for a problem of ``n`` robots, checked: at most one
     entry per robot, each ``{"robot", "reason", "certificate", "end"}``.
@@ -202,23 +233,26 @@ def parse_off_target(value: Any, n: int, where: str | None = None) -> tuple[OffT
     Examples
     --------
     >>> parse_off_target([{"robot": 1, "reason": "not proven: budget", "certificate": None, "end": "start"}], 2)
-    (OffTarget(robot=1, reason='not proven: budget', certificate=None, end='start'),)
+    (OffTarget(robot=1, reason='not proven: budget', certificate=None, end='start', at=None),)
     """
     if not isinstance(value, list) or len(value) > n:
         raise _fail(f"off_target must be a list of at most {n} entries, got {_short(value)}", value, where)
     out, seen = [], set()
     for i, e in enumerate(value):
         name = f"off_target[{i}]"
-        if not isinstance(e, dict) or not set(e) <= {"robot", "reason", "certificate", "end"} or "robot" not in e:
-            raise _fail(f"{name} must be an object {{robot, reason, certificate, end}}, got {_short(e)}", e, where)
+        if not isinstance(e, dict) or not set(e) <= {"robot", "reason", "certificate", "end", "at"} \
+                or "robot" not in e:
+            raise _fail(f"{name} must be an object {{robot, reason, certificate, end, at}}, got {_short(e)}", e,
+                        where)
         robot = e["robot"]
         if not _is_int(robot) or not 0 <= robot < n or robot in seen:
             raise _fail(f"{name}.robot must be a robot index in [0, {n}) listed once, got {_short(robot)}", robot,
                         where)
         seen.add(robot)
         end = e.get("end", "start")
-        if end not in ENDS:
-            raise _fail(f"{name}.end must be one of {list(ENDS)}, got {_short(end)}", end, where)
+        if end not in ENTRY_ENDS:
+            raise _fail(f"{name}.end must be one of {list(ENTRY_ENDS)}, got {_short(end)}", end, where)
         out.append(OffTarget(int(robot), _text(e.get("reason", ""), f"{name}.reason", where),
-                             _certificate(e.get("certificate"), n, f"{name}.certificate", where), end))
+                             _certificate(e.get("certificate"), n, f"{name}.certificate", where), end,
+                             _at(e.get("at"), end, f"{name}.at", where)))
     return tuple(out)

@@ -17,9 +17,10 @@ __all__ = ["partial_problem", "at_whole_target"]
 
 def partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Problem:
     """The problem a ``partial`` plan solves completely: ``problem`` with each robot listed in
-    ``off_target`` ending at its start, or folded where its entry says (:func:`~.off_target.partial_end`,
-    :func:`~.off_target.folded_ends`); a list that names
-    no robot, or one robot twice, is a problem of the plan."""
+    ``off_target`` ending at its start, folded, or parked at its ``at`` where its entry says
+    (:func:`~.off_target.partial_end`, :func:`~.off_target.folded_ends`); a list that names
+    no robot, or one robot twice, or a parked position outside the robot's lattice, is a problem
+    of the plan."""
     entries = plan.off_target
     robots = [e.robot for e in entries if isinstance(e, OffTarget)]
     if (len(robots) != len(entries) or not robots or len(set(robots)) != len(robots)
@@ -27,6 +28,11 @@ def partial_problem(problem: Problem, plan: Plan, problems: list[str]) -> Proble
         problems.append(f"a partial plan must list each robot off target once, by index in [0, {problem.n}), "
                         f"got {len(entries)} entries")
         return problem
+    for e in entries:
+        kin = problem.kin(e.robot)
+        if e.end == "parked" and (e.at is None or len(e.at) != kin.n_joints or not kin.in_range(np.array(e.at))):
+            problems.append(f"robot {e.robot} is parked at {e.at}: not a position of its lattice {kin.shape}")
+            return problem
     return replace(problem, target=partial_end(problem.start, problem.target, tuple(entries), folded_ends(problem)))
 
 

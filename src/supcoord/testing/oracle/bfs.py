@@ -61,6 +61,8 @@ class Outcome:
     reachable: int
     moves: list[tuple[int, int, int]] | None
     undecided: int
+    #: the configurations seen (codes, :meth:`Space.encode`), for a search to exhaustion
+    seen: np.ndarray | None = None
 
 
 class Space:
@@ -305,4 +307,4 @@ class Space:
                 moves.append(label(int(how[c])))
                 c = int(parent[c])
             moves.reverse()
-        return Outcome(depth if goal else None, count, moves, undecided)
+        return Outcome(depth if goal else None, count, moves, undecided, None if goal else np.flatnonzero(seen))

@@ -27,10 +27,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .api import oracle_solve
-from .oracle_model import OracleInputError
+import numpy as np
 
-__all__ = ["MostOnTarget", "oracle_most_on_target", "oracle_group_unsolvable", "ends_at_start"]
+from .api import oracle_solve
+from .bfs import Space
+from .oracle_model import OracleInputError, OracleProblem
+
+__all__ = ["MostOnTarget", "oracle_most_on_target", "oracle_most_on_target_anywhere", "oracle_group_unsolvable",
+           "ends_at_start"]
 
 
 @dataclass(frozen=True)
@@ -78,3 +82,28 @@ def oracle_group_unsolvable(problem_json: Any, members: Sequence[int], at_start:
     """Is a certificate right: can the robots ``members`` alone (every other robot removed),
     those of ``at_start`` ending at their starts, not all reach their ends?"""
     return not _works(problem_json, list(at_start), list(members))
+
+
+def oracle_most_on_target_anywhere(problem_json: Any) -> int:
+    """The most robots at their targets in any configuration reachable from the start by single
+    moves: robots off target end anywhere they can be brought (parked), not only at their starts.
+
+    One breadth-first search to exhaustion (:meth:`.bfs.Space.single`, ``goal=False``) over
+    every robot, then the largest count of robots at their targets among the configurations it
+    reached.  No partial plan can have more robots on target; where the planner parks no robot,
+    :func:`oracle_most_on_target` is at most this.
+
+    Raises :class:`~.bfs.OracleUndecided` where the reachable set rests on an undecided swept entry.
+
+    >>> p = {"layout": {"kind": "points", "xy": [[0, 0], [18, 0], [9, 15]]},
+    ...      "kinematics": {"kind": "rotary", "arm": 15.0, "steps": 12},
+    ...      "collision": {"buffer": 2.0}, "start": [5, 5, 9], "target": [11, 0, 1]}
+    >>> oracle_most_on_target_anywhere(p)
+    2
+    """
+    space = Space(OracleProblem.from_json(problem_json))
+    outcome = space.single(goal=False)
+    assert outcome.seen is not None
+    digits = space.digits(outcome.seen)
+    target = [int(space.prob.target[p]) for p in space.members]
+    return int(np.max(np.sum(digits == np.asarray(target)[None, :], axis=1)))
