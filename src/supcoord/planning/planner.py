@@ -426,15 +426,19 @@ def _partial(problem: Problem, settings: _Settings, budget: Budget, verdict: Sol
     plan, stats = _final_plan(problem, settings, budget, found), dict(verdict.plan.stats)
     stats.update({k: v for k, v in plan.stats.items() if k not in stats})
     stats.update(partial=found.stats.to_json(), seconds=time.perf_counter() - t0)
-    out = Plan("partial", plan.configurations, plan.makespan, plan.lower_bound, plan.events,
-               partial_summary(problem.n, found.on_target, found.off_target), stats, plan.angles_deg,
-               plan.trajectories, plan.motion_time_s, plan.lattice, off_target=found.off_target, on_target=found.on_target,
-               optimal=found.optimal, on_target_bound=found.on_target_bound)
+    if found.off_target:
+        out = Plan("partial", plan.configurations, plan.makespan, plan.lower_bound, plan.events,
+                   partial_summary(problem.n, found.on_target, found.off_target), stats, plan.angles_deg,
+                   plan.trajectories, plan.motion_time_s, plan.lattice, off_target=found.off_target,
+                   on_target=found.on_target, optimal=found.optimal, on_target_bound=found.on_target_bound)
+    else:  # the search put every robot back (on a finer lattice than the whole problem's searches)
+        out = Plan("complete", plan.configurations, plan.makespan, plan.lower_bound, plan.events, "", stats,
+                   plan.angles_deg, plan.trajectories, plan.motion_time_s, plan.lattice)
     if settings.validation == "independent":
         _phase(settings.progress, "validate", steps=len(out.configurations) - 1)
         result = validate_plan(problem, out)
         if not result.valid:
-            raise RuntimeError(f"internal error: the planner's partial plan fails validation: {result.problems[:3]}")
+            raise RuntimeError(f"internal error: the planner's {out.status} plan fails validation: {result.problems[:3]}")
         out.stats["min_clearance"] = result.min_clearance
     return out
 
