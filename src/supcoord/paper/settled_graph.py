@@ -40,7 +40,7 @@ from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
 from .events import positioner_events
 from .literal import ring_step
-from .settled_bound import GROUP_SIZE, HPartition, PatternBound
+from .settled_bound import GROUP_SIZE, HPartition, HSplit, PatternBound
 
 __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route", "successor_events"]
 
@@ -284,6 +284,10 @@ class SettledGraph:
     def h_partition(self, check: Callable[[], None] | None = None) -> HPartition:
         """``H[b]`` built on demand (:class:`~.settled_bound.HPartition`); ``check`` as there."""
         return HPartition(self.bound, self.ctx, self.pos, check)
+
+    def h_split(self, cap: int | None = None) -> HSplit:
+        """Sets cut by ``h`` (:class:`~.settled_bound.HSplit`), ``h > cap`` dropped (None: none)."""
+        return HSplit(self.bound, self.ctx, self.pos, cap)
 
     def heuristic(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where even the relaxation cannot reach the target."""

@@ -95,9 +95,12 @@ class Projections:
     excluded: tuple[int, ...] | None = None
     fixpoint: bool = False
 
-    def admits(self, pos: tuple[int, ...]) -> bool:
-        """Whether every set holds the projection of configuration ``pos``."""
-        return all(s[tuple(pos[i] for i in g)] for g, s in zip(self.groups, self.sets))
+    def admits(self, pos: tuple[int, ...], moved: int | None = None) -> bool:
+        """Whether every set holds the projection of configuration ``pos``; with ``moved``,
+        ``pos`` differs from a configuration every set holds in that positioner's arm
+        only, so only the sets of the groups holding it are read."""
+        return all(s[tuple(pos[i] for i in g)] for g, s in zip(self.groups, self.sets)
+                   if moved is None or moved in g)
 
     def sizes(self) -> list[int]:
         """Projections kept per group."""

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError, ModelError
 from .coupled import CoupledModel
-from .settled_bound import PatternBound
+from .settled_bound import UNREACHABLE, PatternBound
 from .settled_graph import State, settle, successor_events
 
 __all__ = ["GREEDY_LIMIT", "POSITION_LIMIT", "GreedyWitness", "greedy_witness", "position_witness", "replay"]
@@ -220,7 +220,7 @@ def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str
     return path
 
 
-def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...]], bool],
+def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...], int | None], bool],
                      limit: int = POSITION_LIMIT, *, check: Callable[[], None] | None = None) -> GreedyWitness | None:
     """A forcing string found by greedy best-first search on configurations, or None.
 
@@ -228,7 +228,9 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     configurations (:mod:`.settled_refine`: a step of ``P_i`` allowed by every neighbour's
     pair table), ordered by the bound ``h`` of :mod:`.settled_bound`, then by the steps
     spent, skipping configurations where ``h`` is infinite or ``admits`` is false (sound
-    pruning: a co-reachable over-approximation of :func:`.settled_refine.refine`).  The
+    pruning: a co-reachable over-approximation of :func:`.settled_refine.refine`).  A step
+    changes one arm, so ``h`` is updated on the mover's group alone and ``admits`` is told
+    which arm moved.  The
     path found is read as events (the controllable event that makes each step, pending
     events smallest first) and checked by :func:`replay`.
 
@@ -239,7 +241,9 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     bound : PatternBound
         The lower bound ``h`` ordering the search.
     admits : callable
-        ``admits(pos)``: False only where the target is unreachable from ``pos``.
+        ``admits(pos, moved)``: False only where the target is unreachable from ``pos``;
+        ``moved`` is None at the start, else the positioner whose step led to ``pos`` from a
+        configuration admitted (:meth:`.settled_refine.Projections.admits`).
     limit : int
         Configurations expanded at most.
     check : callable, optional
@@ -259,7 +263,7 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     --------
     >>> from supcoord.paper.run import coupled_instance
     >>> model = CoupledModel(coupled_instance(3, 8, 0))
-    >>> position_witness(model, PatternBound(model), lambda pos: True).length
+    >>> position_witness(model, PatternBound(model), lambda pos, moved: True).length
     8
     """
     from .settled_refine import pair_tables
@@ -273,10 +277,11 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     start, target = tuple(model.inst.start), tuple(model.inst.target)
     parent: dict[tuple[int, ...], tuple[tuple[int, ...], tuple[int, int]] | None] = {start: None}
     h0 = bound.value(start)
-    queue = [] if h0 is None or not admits(start) else [(h0, 0, start)]
+    queue = [] if h0 is None or not admits(start, None) else [(h0, 0, start)]
+    home = {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
     expanded = 0
     while queue and expanded < limit:
-        _, g, x = heapq.heappop(queue)
+        hx, g, x = heapq.heappop(queue)
         if x == target:
             moves = []
             while parent[x] is not None:
@@ -294,9 +299,10 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
                 y = x[:i] + (nxt[s][x[i]],) + x[i + 1:]
                 if y in parent:
                     continue
-                h = bound.value(y)
-                if h is None or not admits(y):
+                table, group = home[i]  # h changes on the mover's group only
+                dy = int(table[tuple(y[k] for k in group)])
+                if dy == UNREACHABLE or not admits(y, i):
                     continue
                 parent[y] = (x, (i, s))
-                heapq.heappush(queue, (h, g + 1, y))
+                heapq.heappush(queue, (hx - int(table[tuple(x[k] for k in group)]) + dy, g + 1, y))
     return None
