@@ -142,26 +142,28 @@ class _Search:
     lower: int = 0  # dist(T) >= lower: every state of f < lower was expanded without meeting T
 
 
-def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, allowed: BDD | None = None) -> _Search:
+def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, allowed: BDD | None = None,
+           check_bound: Callable[..., None] | None = None) -> _Search:
     """A* on sets (Edelkamp and Reffel): expand the buckets ``(g, h)`` in order of
     ``f = g + h``, then of ``g``, until every state with ``f ≤ dist(T)`` is expanded (the
     states of all shortest paths, for the witness), or nothing is left to expand.
     ``search``: filled in as the search goes; its ``found`` on entry is the weight of a
-    known path to ``T`` (a checked witness), or None.  The states generated at ``g`` wait
-    in ``pending[g]`` until a sweep reaches ``g``; they are then cut by ``h``
-    (:class:`~.settled_bound.HSplit`, on that set alone: one cut per ``g`` and sweep; states
-    of infinite ``h``, or of ``h`` above a known distance, are dropped: they lie on no
-    shortest path).
+    known path to ``T`` (a checked witness), or None.  ``h``'s partition is built as the
+    sweeps need it: up to ``f`` (and never above a known distance).
     ``allowed``: the states kept (None: all); every state outside it must have no path to ``T``.
-    ``check(stage, **info)`` is called before each bucket and each image.
+    ``check(stage, **info)`` is called before each bucket, ``check_bound`` (default ``check``)
+    while ``h``'s partition is built.
 
     ``h`` is consistent (:mod:`.settled_bound`: an edge lowers it by at most its weight), so a
-    state is first expanded at its distance; ``open_[(g, h)]`` holds the states generated at
+    state is first expanded at its distance; ``open_[g]`` holds the states generated at
     tentative distance ``g``, pruned lazily against the expanded ones."""
-    false = graph.ctx.false
-    cut = graph.h_split(search.found)  # a known path bounds every f expanded, so every h kept
-    open_: dict[tuple[int, int], BDD] = {}
-    pending: dict[int, BDD] = {0: graph.start}
+    ctx = graph.ctx
+    false = ctx.false
+    cap = search.found  # a known path bounds every f expanded, so every h used
+    part = graph.h_partition(lambda: (check_bound or check)("settled bound", cap=cap))
+    exact: list[BDD] = []
+    at_most: list[BDD] = []  # at_most[b]: h ≤ b
+    open_: dict[int, BDD] = {0: graph.start}
     closed, layers = false, search.layers
     layers.append(false)
     best: int | None = 0 if graph.start & graph.target != false else search.found
@@ -169,24 +171,29 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
     if f is None:  # even the relaxation of the bound cannot reach the target
         search.found = None
         return search
-    while best is None or f <= best:
-        search.lower = f  # dist(T) < f would have put T into a sweep already finished
-        for sets in (open_, pending):
-            for key in list(sets):
-                sets[key] &= ~closed
-                if sets[key] == false:
-                    del sets[key]
-        if not open_ and not pending:  # every state reachable from settle(q0) is expanded
+    while True:
+        if best is not None and f > best:
             break
-        for g in range(f + 1):  # successors of (g, f - g) land at a larger g: one sweep per f
-            for b, z in cut.split(pending.pop(g, false) & ~closed).items():
-                open_[(g, b)] = open_.get((g, b), false) | z
-            x = open_.pop((g, f - g), false) & ~closed
+        search.lower = f  # dist(T) < f would have put T into a sweep already finished
+        exact = part.upto(f if cap is None else min(f, cap))  # a sweep of f reads h ≤ f only
+        _unions(at_most, exact)
+        for g in list(open_):
+            open_[g] &= ~closed
+            if open_[g] == false:
+                del open_[g]
+        if not open_:  # every state reachable from settle(q0) is expanded
+            break
+        for g in range(f + 1):  # successors of (g, f) land at a larger g: one sweep per f
+            x = open_.get(g, false)
+            if x == false or f - g >= len(exact):
+                continue
+            x &= exact[f - g]
             if x == false:
                 continue
             check("settled", f=f, g=g, best=best)
             search.buckets += 1
             closed |= x
+            open_[g] &= ~x
             while len(layers) <= g:
                 layers.append(false)
             layers[g] |= x
@@ -194,17 +201,22 @@ def _astar(graph: SettledGraph, check: Callable[..., None], search: _Search, all
             fresh = ~closed if allowed is None else allowed & ~closed
             for w, y in reached.items():
                 y &= fresh
-                if y == false:
-                    continue
-                if y & graph.target != false:
-                    best = search.found = g + w if best is None else min(best, g + w)
-                pending[g + w] = pending.get(g + w, false) | y
-        for (g, b), x in open_.items():  # consistency: nothing generated below the f just swept
-            if g + b <= f and x & ~closed != false:
+                if y != false:
+                    open_[g + w] = open_.get(g + w, false) | y
+                    if y & graph.target != false:
+                        best = search.found = g + w if best is None else min(best, g + w)
+        for g, x in open_.items():  # consistency: nothing generated below the f just swept
+            if g <= f and x & at_most[min(f - g, len(at_most) - 1)] & ~closed != false:
                 raise ModelError(f"a state of f <= {f} was left unexpanded: the bound is not consistent", value=f)
         f += 1
     search.found = best
     return search
+
+
+def _unions(at_most: list[BDD], exact: list[BDD]) -> None:
+    """Extend ``at_most`` to ``at_most[b] = exact[0] ∨ … ∨ exact[b]`` for every ``b`` of ``exact``."""
+    for b in range(len(at_most), len(exact)):
+        at_most.append(exact[b] if b == 0 else at_most[-1] | exact[b])
 
 
 def _successors(graph: SettledGraph, x: BDD, check: Callable[[], None]) -> dict[int, BDD]:
@@ -433,7 +445,9 @@ def _rank(model: CoupledModel, ctx: Context | None, order: str, group_size: int,
         if found is not None:  # the verdict is proved: say so before the search for the rank
             ctx.check_budget("settled witness", **proved)
         allowed = None if proj is None else proj_bdd(proj, ctx, graph.pos)  # states that may reach T
-        _astar(graph, lambda stage, **info: check(stage, **info, **proved), search, allowed)
+        check_bound = ThrottledCheck(ctx)
+        _astar(graph, lambda stage, **info: check(stage, **info, **proved), search, allowed,
+               lambda stage, **info: check_bound(stage, **info, **proved))
     except BudgetExceeded as exc:
         if found is None:
             raise

@@ -58,7 +58,7 @@ from ..bdd.context import BDD, Context
 from ..errors import InputError
 from .coupled import CoupledModel
 
-__all__ = ["GROUP_SIZE", "CERTIFICATE_SIZE", "grown_group", "neighbour_groups", "PatternBound", "HPartition", "HSplit"]
+__all__ = ["GROUP_SIZE", "CERTIFICATE_SIZE", "grown_group", "neighbour_groups", "PatternBound", "HPartition"]
 
 #: positioners per group: a database holds ``steps ** GROUP_SIZE`` distances (262,144 at
 #: 8 steps); larger groups give a tighter bound (more interior positioners) for more table.
@@ -329,51 +329,3 @@ def _split(ctx: Context, names: list[str], memo: dict, axis: int, sub: np.ndarra
             u |= ctx.eq(names[axis], p) & _split(ctx, names, memo, axis + 1, sub[p])
         memo[key] = u
     return memo[key]
-
-
-class HSplit:
-    """A set of states cut by its bound: ``split(x) = {b: x ∧ H[b]}``, computed on ``x``
-    alone, group by group (``{a + d: x_a ∧ V_k[d]}``), so that the A* never builds
-    ``H[b]`` over every configuration; states where some ``d_P`` is infinite, or whose
-    ``h`` exceeds ``cap``, are dropped.  ``V_k[d]`` is built when first needed.
-
-    Examples
-    --------
-    >>> from supcoord.paper.run import coupled_instance
-    >>> model = CoupledModel(coupled_instance(3, 8, 0))
-    >>> ctx, bound = Context(), PatternBound(model)
-    >>> for i in range(3):
-    ...     _ = ctx.add_variable(f"p{i}", 8)
-    >>> H = bound.partitions(ctx, lambda i: f"p{i}")
-    >>> parts = HSplit(bound, ctx, lambda i: f"p{i}").split(ctx.true)
-    >>> all(parts.get(b, ctx.false) == H[b] for b in range(len(H)))
-    True
-    """
-
-    def __init__(self, bound: PatternBound, ctx: Context, var: Callable[[int], str], cap: int | None = None) -> None:
-        self.ctx, self.var, self.cap = ctx, var, cap
-        self.groups, self.tables = bound.groups, bound.tables
-        self.values = [sorted(int(v) for v in np.unique(t) if v != UNREACHABLE) for t in self.tables]
-        self._v: list[dict[int, BDD]] = [{} for _ in self.tables]
-
-    def _value(self, k: int, d: int) -> BDD:
-        if d not in self._v[k]:
-            names = [self.var(i) for i in self.groups[k]]
-            self._v[k][d] = _array_bdd(self.ctx, self.tables[k] == d, names)
-        return self._v[k][d]
-
-    def split(self, x: BDD) -> dict[int, BDD]:
-        """``{b: x ∧ H[b]}`` for the ``b`` (at most ``cap``) where it is not empty."""
-        false = self.ctx.false
-        parts = {0: x} if x != false else {}
-        for k in range(len(self.tables)):
-            new: dict[int, BDD] = {}
-            for a, u in parts.items():
-                for d in self.values[k]:
-                    if self.cap is not None and a + d > self.cap:
-                        break
-                    v = u & self._value(k, d)
-                    if v != false:
-                        new[a + d] = new.get(a + d, false) | v
-            parts = new
-        return parts

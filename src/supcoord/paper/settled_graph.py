@@ -40,17 +40,21 @@ from ..synthesis.image_step import ImageStep
 from .coupled import CoupledModel, positioner_order
 from .events import positioner_events
 from .literal import ring_step
-from .settled_bound import GROUP_SIZE, HPartition, HSplit, PatternBound
+from .settled_bound import GROUP_SIZE, HPartition, PatternBound
 
 __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_settled_route", "successor_events"]
 
 State = tuple[tuple[int, ...], tuple[int, ...]]  # (positions, levels)
 
 
-def settle(model: CoupledModel, pos: tuple[int, ...], lvl: tuple[int, ...]) -> tuple[tuple[int, ...], int]:
-    """``(levels of settle(x), D(x))`` for the state ``x = (pos, lvl)``."""
+def settle(model: CoupledModel, pos: tuple[int, ...], lvl: tuple[int, ...],
+           near: int | None = None) -> tuple[tuple[int, ...], int]:
+    """``(levels of settle(x), D(x))`` for the state ``x = (pos, lvl)``; ``near``: ``x`` is one
+    event from a settled state, an event of that positioner, so only it and its neighbours
+    can have events pending (the others' levels and counts are those of a settled state)."""
     out, total = list(lvl), 0
-    for i, level in enumerate(lvl):
+    for i in range(len(lvl)) if near is None else (near, *model.neighbours[near]):
+        level = lvl[i]
         c = model.count(i, pos)
         if c == 0:
             if level >= 1:
@@ -284,10 +288,6 @@ class SettledGraph:
     def h_partition(self, check: Callable[[], None] | None = None) -> HPartition:
         """``H[b]`` built on demand (:class:`~.settled_bound.HPartition`); ``check`` as there."""
         return HPartition(self.bound, self.ctx, self.pos, check)
-
-    def h_split(self, cap: int | None = None) -> HSplit:
-        """Sets cut by ``h`` (:class:`~.settled_bound.HSplit`), ``h > cap`` dropped (None: none)."""
-        return HSplit(self.bound, self.ctx, self.pos, cap)
 
     def heuristic(self, pos: tuple[int, ...]) -> int | None:
         """``h`` of a configuration, None where even the relaxation cannot reach the target."""

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError, ModelError
 from .coupled import CoupledModel
+from .events import decode_label
 from .settled_bound import UNREACHABLE, PatternBound
 from .settled_graph import State, settle, successor_events
 
@@ -178,9 +179,10 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
     parent: dict[State, tuple[State, str] | None] = {start: None}
     h0 = bound.value(start[0])
     queue = [] if h0 is None else [(h0, 0, 0, start)]
+    home = {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
     expanded = tie = 0
     while queue and expanded < limit:
-        _, g, _, y = heapq.heappop(queue)
+        hy, g, _, y = heapq.heappop(queue)
         if y == target:
             moves = []
             while parent[y] is not None:
@@ -192,13 +194,16 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
         if check is not None and expanded % CHECK_EVERY == 1:
             check()
         for name, z in successor_events(model, y, controllable=True):
-            lv, d = settle(model, *z)
+            i = decode_label(name)[0] - 1  # the event's positioner: only it and its neighbours settle
+            lv, d = settle(model, *z, near=i)
             nxt = (z[0], lv)
             if nxt in parent:
                 continue
-            h = bound.value(nxt[0])
-            if h is None:
+            table, group = home[i]  # h changes on the mover's group only
+            dz = int(table[tuple(z[0][k] for k in group)])
+            if dz == UNREACHABLE:
                 continue
+            h = hy - int(table[tuple(y[0][k] for k in group)]) + dz
             parent[nxt] = (y, name)
             tie += 1
             heapq.heappush(queue, (h, g + 1 + d, tie, nxt))
