@@ -39,7 +39,7 @@ from .settled_graph import State, settle, successor_events
 
 __all__ = ["GREEDY_LIMIT", "POSITION_LIMIT", "GreedyWitness", "greedy_witness", "position_witness", "replay"]
 
-#: settled states :func:`greedy_witness` expands at most before it gives up: about 5 s of CPU
+#: settled states :func:`greedy_witness` expands at most before it gives up: about 3 s of CPU
 #: at 19 positioners, where 6 of the 7 strings found over seeds 0-29 took fewer (survey_coupled.py)
 GREEDY_LIMIT = 2_000
 #: configurations :func:`position_witness` expands at most: about 10 s of CPU at 19
@@ -179,7 +179,7 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
     parent: dict[State, tuple[State, str] | None] = {start: None}
     h0 = bound.value(start[0])
     queue = [] if h0 is None else [(h0, 0, 0, start)]
-    home = {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
+    home = _homes(bound)
     expanded = tie = 0
     while queue and expanded < limit:
         hy, g, _, y = heapq.heappop(queue)
@@ -208,6 +208,11 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
             tie += 1
             heapq.heappush(queue, (h, g + 1 + d, tie, nxt))
     return None
+
+
+def _homes(bound: PatternBound) -> dict:
+    """``{i: (table, group)}``: the pattern database of each positioner's group."""
+    return {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
 
 
 def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str]:
@@ -283,7 +288,7 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     parent: dict[tuple[int, ...], tuple[tuple[int, ...], tuple[int, int]] | None] = {start: None}
     h0 = bound.value(start)
     queue = [] if h0 is None or not admits(start, None) else [(h0, 0, start)]
-    home = {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
+    home = _homes(bound)
     expanded = 0
     while queue and expanded < limit:
         hx, g, x = heapq.heappop(queue)
@@ -297,17 +302,22 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
         expanded += 1
         if check is not None and expanded % CHECK_EVERY == 1:
             check()
-        for i in range(size):
-            for s in (1, -1):
-                if not all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
-                    continue
-                y = x[:i] + (nxt[s][x[i]],) + x[i + 1:]
-                if y in parent:
-                    continue
-                table, group = home[i]  # h changes on the mover's group only
-                dy = int(table[tuple(y[k] for k in group)])
-                if dy == UNREACHABLE or not admits(y, i):
-                    continue
-                parent[y] = (x, (i, s))
-                heapq.heappush(queue, (hx - int(table[tuple(x[k] for k in group)]) + dy, g + 1, y))
+        for i, s, y in _steps(x, masks, nxt):
+            if y in parent:
+                continue
+            table, group = home[i]  # h changes on the mover's group only
+            dy = int(table[tuple(y[k] for k in group)])
+            if dy == UNREACHABLE or not admits(y, i):
+                continue
+            parent[y] = (x, (i, s))
+            heapq.heappush(queue, (hx - int(table[tuple(x[k] for k in group)]) + dy, g + 1, y))
     return None
+
+
+def _steps(x: tuple[int, ...], masks: dict, nxt: dict[int, list[int]]):
+    """``(i, s, y)`` for every step of ``P_i`` in direction ``s`` that the neighbours'
+    positions in ``x`` allow (``masks``: their allowed positions as bits), ``y`` the result."""
+    for i in range(len(x)):
+        for s in (1, -1):
+            if all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
+                yield i, s, x[:i] + (nxt[s][x[i]],) + x[i + 1:]
