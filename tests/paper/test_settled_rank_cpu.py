@@ -97,7 +97,7 @@ def test_the_explicit_searches_check_their_budget_as_they_go():
         greedy_witness(model, bound, 500, check=check)
     check, seen = _raise_after(0)
     with pytest.raises(BudgetExceeded):
-        position_witness(model, bound, lambda pos: True, 500, check=check)
+        position_witness(model, bound, lambda pos, moved: True, 500, check=check)
     check, seen = _raise_after(10**6)
     refine(model, forward=False, check=check)
     assert len(seen) > len(refine(model, forward=False).groups)  # within a group's recomputation too

@@ -74,7 +74,7 @@ def test_the_search_on_configurations_finds_a_string_exactly_where_the_target_is
         forcible, rank = settled_ccc_naive(model)
         assert forcible == (tuple(model.inst.target) in reach)
         back = refine(model, forward=False)
-        for admits in (lambda pos: True, back.admits):
+        for admits in (lambda pos, moved: True, back.admits):
             found = position_witness(model, PatternBound(model), admits, limit=10 ** 6)
             assert (found is not None) == forcible, model.inst
             if found is not None:

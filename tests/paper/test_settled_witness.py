@@ -95,3 +95,28 @@ def test_a_budget_that_ends_the_search_for_the_rank_keeps_the_proved_verdict():
     for info in searching:
         assert info["forcible"] is True and info["upper_bound"] == found.length
         assert replay(model, info["witness"]) == found.length
+
+
+def test_settling_near_the_mover_equals_settling_every_positioner():
+    """The greedy search settles only the mover and its neighbours after a controllable
+    event at a settled state; on every such step of random crowded instances that is the
+    whole settling (levels and ``D``), and every case of ``D`` is met."""
+    from supcoord.paper.events import decode_label
+    from supcoord.paper.settled_graph import settle
+
+    costs = set()
+    for model in _random_models(seed=41, count=30):
+        size = model.inst.size
+        q0 = tuple(model.inst.start)
+        start = (q0, settle(model, q0, (0,) * size)[0])
+        seen, stack = {start}, [start]
+        while stack:
+            y = stack.pop()
+            for name, z in successor_events(model, y, controllable=True):
+                whole = settle(model, *z)
+                assert settle(model, *z, near=decode_label(name)[0] - 1) == whole, (model.inst, y, name)
+                costs.add(whole[1])
+                if (z[0], whole[0]) not in seen:
+                    seen.add((z[0], whole[0]))
+                    stack.append((z[0], whole[0]))
+    assert {0, 1, 2, 3} <= costs, costs

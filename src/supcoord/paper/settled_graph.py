@@ -47,10 +47,14 @@ __all__ = ["State", "Move", "SettledGraph", "settle", "target_in_zone", "check_s
 State = tuple[tuple[int, ...], tuple[int, ...]]  # (positions, levels)
 
 
-def settle(model: CoupledModel, pos: tuple[int, ...], lvl: tuple[int, ...]) -> tuple[tuple[int, ...], int]:
-    """``(levels of settle(x), D(x))`` for the state ``x = (pos, lvl)``."""
+def settle(model: CoupledModel, pos: tuple[int, ...], lvl: tuple[int, ...],
+           near: int | None = None) -> tuple[tuple[int, ...], int]:
+    """``(levels of settle(x), D(x))`` for the state ``x = (pos, lvl)``; ``near``: ``x`` is one
+    event from a settled state, an event of that positioner, so only it and its neighbours
+    can have events pending (the others' levels and counts are those of a settled state)."""
     out, total = list(lvl), 0
-    for i, level in enumerate(lvl):
+    for i in range(len(lvl)) if near is None else (near, *model.neighbours[near]):
+        level = lvl[i]
         c = model.count(i, pos)
         if c == 0:
             if level >= 1:

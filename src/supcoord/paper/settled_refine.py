@@ -95,9 +95,12 @@ class Projections:
     excluded: tuple[int, ...] | None = None
     fixpoint: bool = False
 
-    def admits(self, pos: tuple[int, ...]) -> bool:
-        """Whether every set holds the projection of configuration ``pos``."""
-        return all(s[tuple(pos[i] for i in g)] for g, s in zip(self.groups, self.sets))
+    def admits(self, pos: tuple[int, ...], moved: int | None = None) -> bool:
+        """Whether every set holds the projection of configuration ``pos``; with ``moved``,
+        ``pos`` differs from a configuration every set holds in that positioner's arm
+        only, so only the sets of the groups holding it are read."""
+        return all(s[tuple(pos[i] for i in g)] for g, s in zip(self.groups, self.sets)
+                   if moved is None or moved in g)
 
     def sizes(self) -> list[int]:
         """Projections kept per group."""
@@ -178,7 +181,12 @@ class _Refiner:
 
     def recompute(self, sets: list[np.ndarray], k: int, check: Callable[[], None] | None = None) -> np.ndarray:
         """The projections onto ``groups[k]`` reached from the seed's by the group's moves;
-        ``check`` is called before each breadth-first layer (a budget may raise there)."""
+        ``check`` is called before each sweep (a budget may raise there).
+
+        Chaotic iteration: each step's image is added to the set at once, so a sweep
+        follows a step of every arm in turn (Gauss–Seidel), and the sweeps stop when one
+        adds nothing: the least fixpoint, the set a breadth-first search reaches, in a few
+        sweeps instead of one per layer."""
         group = self.groups[k]
         inside = self.inside(sets, group, skip=k)
         steps = [(a, s, np.broadcast_to(self.enabled(sets, k, i, s), inside.shape))
@@ -186,19 +194,17 @@ class _Refiner:
         reached = np.zeros_like(inside)
         reached[tuple(self.seed[i] for i in group)] = True
         reached &= inside
-        frontier = reached
-        while frontier.any():
+        count, grown = int(reached.sum()), True
+        while grown:
             if check is not None:
                 check()
-            new = np.zeros_like(inside)
             for a, s, mask in steps:
-                if self.forward:  # y = x moved: x enabled and in the frontier
-                    new |= np.take(frontier & mask, self.before[s], axis=a)
-                else:  # x enabled and x moved in the frontier
-                    new |= mask & np.take(frontier, self.after[s], axis=a)
-            new &= inside & ~reached
-            reached = reached | new
-            frontier = new
+                if self.forward:  # y = x moved: x enabled and reached
+                    reached |= np.take(reached & mask, self.before[s], axis=a) & inside
+                else:  # x enabled and x moved reached
+                    reached |= mask & np.take(reached, self.after[s], axis=a) & inside
+            last, count = count, int(reached.sum())
+            grown = count > last
         return reached & sets[k]
 
 
@@ -225,7 +231,7 @@ def refine(model: CoupledModel, *, forward: bool = True, groups: list[tuple[int,
     max_rounds : int
         Sweeps over the groups at most; the sets are sound after any number.
     check : callable, optional
-        Called before each group's recomputation and each of its breadth-first layers (a
+        Called before each group's recomputation and each sweep of it (a
         budget check may raise there).
 
     Returns

@@ -33,12 +33,13 @@ from dataclasses import dataclass
 
 from ..errors import InputError, ModelError
 from .coupled import CoupledModel
-from .settled_bound import PatternBound
+from .events import decode_label
+from .settled_bound import UNREACHABLE, PatternBound
 from .settled_graph import State, settle, successor_events
 
 __all__ = ["GREEDY_LIMIT", "POSITION_LIMIT", "GreedyWitness", "greedy_witness", "position_witness", "replay"]
 
-#: settled states :func:`greedy_witness` expands at most before it gives up: about 5 s of CPU
+#: settled states :func:`greedy_witness` expands at most before it gives up: about 3 s of CPU
 #: at 19 positioners, where 6 of the 7 strings found over seeds 0-29 took fewer (survey_coupled.py)
 GREEDY_LIMIT = 2_000
 #: configurations :func:`position_witness` expands at most: about 10 s of CPU at 19
@@ -178,9 +179,10 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
     parent: dict[State, tuple[State, str] | None] = {start: None}
     h0 = bound.value(start[0])
     queue = [] if h0 is None else [(h0, 0, 0, start)]
+    home = _homes(bound)
     expanded = tie = 0
     while queue and expanded < limit:
-        _, g, _, y = heapq.heappop(queue)
+        hy, g, _, y = heapq.heappop(queue)
         if y == target:
             moves = []
             while parent[y] is not None:
@@ -192,17 +194,25 @@ def greedy_witness(model: CoupledModel, bound: PatternBound, limit: int = GREEDY
         if check is not None and expanded % CHECK_EVERY == 1:
             check()
         for name, z in successor_events(model, y, controllable=True):
-            lv, d = settle(model, *z)
+            i = decode_label(name)[0] - 1  # the event's positioner: only it and its neighbours settle
+            lv, d = settle(model, *z, near=i)
             nxt = (z[0], lv)
             if nxt in parent:
                 continue
-            h = bound.value(nxt[0])
-            if h is None:
+            table, group = home[i]  # h changes on the mover's group only
+            dz = int(table[tuple(z[0][k] for k in group)])
+            if dz == UNREACHABLE:
                 continue
+            h = hy - int(table[tuple(y[0][k] for k in group)]) + dz
             parent[nxt] = (y, name)
             tie += 1
             heapq.heappush(queue, (h, g + 1 + d, tie, nxt))
     return None
+
+
+def _homes(bound: PatternBound) -> dict:
+    """``{i: (table, group)}``: the pattern database of each positioner's group."""
+    return {i: (table, group) for group, table in zip(bound.groups, bound.tables) for i in group}
 
 
 def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str]:
@@ -220,7 +230,7 @@ def _moves_string(model: CoupledModel, moves: list[tuple[int, int]]) -> list[str
     return path
 
 
-def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...]], bool],
+def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[[tuple[int, ...], int | None], bool],
                      limit: int = POSITION_LIMIT, *, check: Callable[[], None] | None = None) -> GreedyWitness | None:
     """A forcing string found by greedy best-first search on configurations, or None.
 
@@ -228,7 +238,9 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     configurations (:mod:`.settled_refine`: a step of ``P_i`` allowed by every neighbour's
     pair table), ordered by the bound ``h`` of :mod:`.settled_bound`, then by the steps
     spent, skipping configurations where ``h`` is infinite or ``admits`` is false (sound
-    pruning: a co-reachable over-approximation of :func:`.settled_refine.refine`).  The
+    pruning: a co-reachable over-approximation of :func:`.settled_refine.refine`).  A step
+    changes one arm, so ``h`` is updated on the mover's group alone and ``admits`` is told
+    which arm moved.  The
     path found is read as events (the controllable event that makes each step, pending
     events smallest first) and checked by :func:`replay`.
 
@@ -239,7 +251,9 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     bound : PatternBound
         The lower bound ``h`` ordering the search.
     admits : callable
-        ``admits(pos)``: False only where the target is unreachable from ``pos``.
+        ``admits(pos, moved)``: False only where the target is unreachable from ``pos``;
+        ``moved`` is None at the start, else the positioner whose step led to ``pos`` from a
+        configuration admitted (:meth:`.settled_refine.Projections.admits`).
     limit : int
         Configurations expanded at most.
     check : callable, optional
@@ -259,7 +273,7 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     --------
     >>> from supcoord.paper.run import coupled_instance
     >>> model = CoupledModel(coupled_instance(3, 8, 0))
-    >>> position_witness(model, PatternBound(model), lambda pos: True).length
+    >>> position_witness(model, PatternBound(model), lambda pos, moved: True).length
     8
     """
     from .settled_refine import pair_tables
@@ -273,10 +287,11 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
     start, target = tuple(model.inst.start), tuple(model.inst.target)
     parent: dict[tuple[int, ...], tuple[tuple[int, ...], tuple[int, int]] | None] = {start: None}
     h0 = bound.value(start)
-    queue = [] if h0 is None or not admits(start) else [(h0, 0, start)]
+    queue = [] if h0 is None or not admits(start, None) else [(h0, 0, start)]
+    home = _homes(bound)
     expanded = 0
     while queue and expanded < limit:
-        _, g, x = heapq.heappop(queue)
+        hx, g, x = heapq.heappop(queue)
         if x == target:
             moves = []
             while parent[x] is not None:
@@ -287,16 +302,22 @@ def position_witness(model: CoupledModel, bound: PatternBound, admits: Callable[
         expanded += 1
         if check is not None and expanded % CHECK_EVERY == 1:
             check()
-        for i in range(size):
-            for s in (1, -1):
-                if not all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
-                    continue
-                y = x[:i] + (nxt[s][x[i]],) + x[i + 1:]
-                if y in parent:
-                    continue
-                h = bound.value(y)
-                if h is None or not admits(y):
-                    continue
-                parent[y] = (x, (i, s))
-                heapq.heappush(queue, (h, g + 1, y))
+        for i, s, y in _steps(x, masks, nxt):
+            if y in parent:
+                continue
+            table, group = home[i]  # h changes on the mover's group only
+            dy = int(table[tuple(y[k] for k in group)])
+            if dy == UNREACHABLE or not admits(y, i):
+                continue
+            parent[y] = (x, (i, s))
+            heapq.heappush(queue, (hx - int(table[tuple(x[k] for k in group)]) + dy, g + 1, y))
     return None
+
+
+def _steps(x: tuple[int, ...], masks: dict, nxt: dict[int, list[int]]):
+    """``(i, s, y)`` for every step of ``P_i`` in direction ``s`` that the neighbours'
+    positions in ``x`` allow (``masks``: their allowed positions as bits), ``y`` the result."""
+    for i in range(len(x)):
+        for s in (1, -1):
+            if all(bits >> x[j] & 1 for j, bits in masks[(i, s, x[i])]):
+                yield i, s, x[:i] + (nxt[s][x[i]],) + x[i + 1:]
