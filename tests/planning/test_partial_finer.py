@@ -171,3 +171,30 @@ def test_the_planners_neighbourhood_names_the_whole_problems_robots(monkeypatch)
     attempt = planner._lattice_attempt(p, (18, 10), None, None)
     assert attempt.alone(p, [0, 3, 5]) == ([3, 5], "window")  # sub-problem robots 1, 2 are robots 3, 5
     assert seen == [(3, 180)]  # the three robots alone, on the 18 x 10 lattice
+
+
+def test_a_search_that_puts_every_robot_back_answers_a_complete_plan(monkeypatch):
+    """Step 4 may put back the last robot off target on a lattice finer than any the whole
+    problem was searched on: the answer is then a complete plan, validated as one (it was a
+    'partial' plan with no robot off target, which the validator refused: an internal error)."""
+    import time
+
+    from supcoord.planning import planner
+    from supcoord.planning.partial import PartialResult, PartialStats
+    from supcoord.planning.windows import Certificate
+    from supcoord.bdd.budget import Budget
+    from supcoord.problems.validate import validate_plan
+
+    ab = {"kind": "alpha-beta", "alpha": 7.4, "beta": 15.0, "alpha_steps": 12, "beta_steps": 7}
+    p = parse_problem({"layout": {"kind": "points", "xy": [[0, 0], [60, 0], [120, 0]]}, "kinematics": ab,
+                       "collision": {"buffer": 1.0}, "start": [[0, 0]] * 3, "target": [[6, 6], [3, 2], [9, 5]]})
+    settings = planner._settings("local", "auto", None, 0, None, None, None, "independent")
+    solved = planner._solve(p, settings, Budget())
+    assert solved.plan.status == "complete"
+    verdict = planner.Solved(solved.plan, solved.stats, Certificate([0], "window"))
+    found = PartialResult(solved.plan, (), True, 3, 3, PartialStats(method="exact", finer_put_back=[0]))
+    monkeypatch.setattr(planner, "partial_search", lambda *args: found)
+    out = planner._partial(p, settings, Budget(), verdict, time.perf_counter())
+    assert out.status == "complete" and out.off_target == () and out.on_target is None
+    assert validate_plan(p, out).valid
+    assert out.stats["partial"]["finer_put_back"] == [0]
