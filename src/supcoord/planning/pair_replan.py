@@ -20,7 +20,12 @@ earliest ``t`` with ``(target_r, target_b) ∈ R(t)`` from which both may stand 
 targets to the plan's end, read back through the parents of each layer.  Each step of
 either was checked against every other trajectory of the plan in that very step and
 against the other's, so the plan stays valid.  The state space is the pair's product of
-positions (``91² = 8,281`` on a 13 × 7 lattice), one boolean layer per step.
+positions (``91² = 8,281`` on a 13 × 7 lattice, ``684² = 467,856`` on 36 × 19), one boolean
+layer per step.  Two shortcuts keep a layer's cost near that of its states, not of its
+states times the 81 option pairs, with the same result: the states where the two are too
+far apart for any step of theirs to collide are stepped as a whole (``r``'s options applied
+to the rows, then ``b``'s to the columns), and each robot's options are kept only where it
+can still arrive in time alone (:func:`_in_time`).  Parents are read back for the path only.
 
 Reference
 ---------
@@ -63,19 +68,41 @@ def pair_replan(rp: Any, r: int, b: int, k: int, side: int, horizon: int,
     motions = _PairMotions(rp, r, b, k, side)
     goals = (int(rp.kin.flat_index(rp.problem.target[r])), int(rp.kin.flat_index(rp.problem.target[b])))
     (stay_r, masks_r), (stay_b, masks_b) = _alone(rp, r, b, goals[0], horizon), _alone(rp, b, r, goals[1], horizon)
+    last = min(before, horizon + 1) - 1  # the last step at which both may arrive
+    masks_r, masks_b = _in_time(rp, masks_r, stay_r, goals[0], last), _in_time(rp, masks_b, stay_b, goals[1], last)
     reach = np.zeros((npos, npos), dtype=bool)
     reach[int(rp.traj[0, r]), int(rp.traj[0, b])] = True
-    parents: list[np.ndarray] = []
-    for t in range(min(before, horizon + 1)):
+    layers: list[np.ndarray] = []  # the states reached before each step
+    for t in range(last + 1):
         if reach[goals] and stay_r[t] and stay_b[t]:
-            return _read_back(rp, r, b, goals, parents)
+            return _read_back(rp, motions, r, b, goals, layers, masks_r, masks_b)
         if t == horizon:
             return None
-        par, reach = _layer(rp, motions, reach, masks_r[t], masks_b[t])
-        parents.append(par)
+        layers.append(reach)
+        reach = _layer(rp, motions, reach, masks_r[t], masks_b[t])
         if not reach.any():
             return None
     return None
+
+
+def _in_time(rp: Any, masks: np.ndarray, stay: np.ndarray, goal: int, last: int) -> np.ndarray:
+    """``masks`` (``[t, u, i]``, one robot's) restricted to the steps that end where the robot,
+    alone, can still arrive in time: at ``goal`` at some step ``t' ≤ last`` with ``stay[t']``.
+
+    A pair state that either robot cannot leave in time reaches no goal of the pair, and no
+    state on a path to the goal is left out (each step of such a path ends where both
+    arrive in time), so the pair's search finds the same trajectories through the same
+    parents on fewer states: around the plan being shortened the robots have little slack."""
+    nxt = rp.nxt
+    valid = nxt >= 0
+    target = np.zeros(masks.shape[-1], dtype=bool)
+    target[goal] = True
+    out = np.zeros_like(masks)
+    ok = target & bool(stay[last])  # where the robot may be at step t + 1
+    for t in range(min(last, len(masks)) - 1, -1, -1):
+        out[t] = masks[t] & valid & ok[np.where(valid, nxt, 0)]
+        ok = out[t].any(axis=0) | (target & bool(stay[t]))
+    return out
 
 
 def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, np.ndarray]:
@@ -95,7 +122,18 @@ def _alone(rp: Any, x: int, other: int, goal: int, horizon: int) -> tuple[Any, n
 class _PairMotions:
     """Whether ``r`` and ``b`` moving together over one step is free, for the entries asked
     (:func:`~supcoord.geometry.motion.prefiltered_motion_collides`), remembered in the
-    re-planner's cache for the pair's next calls (the :data:`PAIRS_KEPT` latest pairs)."""
+    re-planner's cache for the pair's next calls (the :data:`PAIRS_KEPT` latest pairs).
+
+    ``near[i, j]``: the pair states from which some step of the two may collide.  Every point
+    of ``r`` doing option ``u`` and of ``b`` doing ``v`` moves at most ``L_uv`` mm (the two sweep
+    lengths), so the segments' distance changes by at most ``L_uv`` over the step: where the
+    distance ``d0`` at the state is at least ``r_sum + max L_uv + MARGIN``, both end distances
+    are at least ``r_sum`` and ``(d0 + d1 − L_uv)/2 ≥ r_sum`` for every ``(u, v)``, so the
+    end-point prefilter of :func:`~supcoord.geometry.motion.prefiltered_motion_collides` finds
+    every step of the two free there (the margin covers the distances' rounding)."""
+
+    #: slack (mm) above the Lipschitz bound for the rounding of computed distances
+    MARGIN = 1e-6
 
     def __init__(self, rp: Any, r: int, b: int, k: int, side: int):
         self.rp, self.r, self.b = rp, r, b
@@ -106,13 +144,16 @@ class _PairMotions:
         self.deltas = np.asarray(rp.deltas)
         npos, n_opt = len(rp.pos), len(rp.deltas)
         kept = rp.merged_cache.setdefault("pairs", OrderedDict())  # the latest pairs' tables, oldest first
-        known = kept.pop((k, side), None)  # 0: not computed yet, 1 free, 2 collides
+        known, near = kept.pop((k, side), (None, None))
         if known is None:
-            known = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)
-        kept[k, side] = known
+            known = np.zeros((n_opt, n_opt, npos, npos), dtype=np.int8)  # 0: not computed yet, 1 free, 2 collides
+            reach = float(problem.kin(r).sweep_length(self.deltas).max() + problem.kin(b).sweep_length(self.deltas).max())
+            ii, jj = np.meshgrid(np.arange(npos), np.arange(npos), indexing="ij")
+            near = np.asarray(self.dist[ii.ravel(), jj.ravel()]).reshape(npos, npos) < self.bsum + reach + self.MARGIN
+        kept[k, side] = (known, near)
         while len(kept) > PAIRS_KEPT:
             kept.popitem(last=False)
-        self.known = known
+        self.known, self.near = known, near
 
     def free(self, u: np.ndarray, v: np.ndarray, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
         """Is ``r`` doing ``u`` from ``ii`` while ``b`` does ``v`` from ``jj`` free (entries)?"""
@@ -129,42 +170,80 @@ class _PairMotions:
 
 
 def _layer(rp: Any, motions: _PairMotions, reach: np.ndarray, masks_r: np.ndarray,
-           masks_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(parents, reach')``: the pair states one step after ``reach`` and the parent of each
-    (flat ``i · P + j``, −1 where none: the first in option order)."""
-    npos, n_opt = len(rp.pos), len(rp.deltas)
-    par = np.full(npos * npos, -1, dtype=np.int64)
-    new = np.zeros(npos * npos, dtype=bool)
-    parts = []
-    for u in range(n_opt):
-        from_r = reach & masks_r[u][:, None]
-        if from_r.any():
-            for v in range(n_opt):
-                ii, jj = np.nonzero(from_r & masks_b[v][None, :])
-                parts.append((np.full(len(ii), u), np.full(len(ii), v), ii, jj))
-    if parts:
-        uu, vv, ii, jj = (np.concatenate(x) for x in zip(*parts))
-        free = motions.free(uu, vv, ii, jj)
-        uu, vv, ii, jj = uu[free], vv[free], ii[free], jj[free]
-        dst = rp.nxt[uu, ii] * npos + rp.nxt[vv, jj]
-        first = np.unique(dst, return_index=True)[1]  # one parent per state: the first in option order
-        par[dst[first]] = (ii * npos + jj)[first]
-        new[dst] = True
-    return par, new.reshape(npos, npos)
+           masks_b: np.ndarray) -> np.ndarray:
+    """The pair states one step after ``reach``: from the states far apart
+    (:attr:`_PairMotions.near` false) every step allowed to each alone is free together, so
+    their successors are ``r``'s options applied to the rows, then ``b``'s to the columns; the
+    steps from the near states are checked one by one (:meth:`_PairMotions.free`)."""
+    npos, n_opt, nxt = len(rp.pos), len(rp.deltas), rp.nxt
+    new = np.zeros((npos, npos), dtype=bool)
+    far = reach & ~motions.near
+    if far.any():
+        rows = np.zeros((npos, npos), dtype=bool)  # after r's option: [r's new position, b's old]
+        occupied = far.any(axis=1)
+        for u in range(n_opt):
+            src = np.nonzero(masks_r[u] & occupied)[0]
+            _or_into(rows, nxt[u, src], far[src])
+        occupied = rows.any(axis=0)
+        for v in range(n_opt):
+            src = np.nonzero(masks_b[v] & occupied)[0]
+            _or_into(new.T, nxt[v, src], rows[:, src].T)
+    ii, jj = np.nonzero(reach & motions.near)
+    if len(ii):
+        parts = []
+        for u in range(n_opt):
+            from_r = masks_r[u][ii]
+            if from_r.any():
+                for v in range(n_opt):
+                    sel = np.nonzero(from_r & masks_b[v][jj])[0]
+                    parts.append((np.full(len(sel), u), np.full(len(sel), v), ii[sel], jj[sel]))
+        uu, vv, si, sj = (np.concatenate(x) for x in zip(*parts)) if parts else (np.zeros(0, np.int64),) * 4
+        free = motions.free(uu, vv, si, sj)
+        new[nxt[uu[free], si[free]], nxt[vv[free], sj[free]]] = True
+    return new
 
 
-def _read_back(rp: Any, r: int, b: int, goals: tuple[int, int],
-               parents: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """The pair's trajectories arriving at ``goals`` after ``len(parents)`` steps, read back
-    through the parents; every later step stands at the goal."""
-    npos = len(rp.pos)
-    path = [goals[0] * npos + goals[1]]
-    for par in reversed(parents):
-        path.append(int(par[path[-1]]))
+def _or_into(out: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
+    """``out[rows[x]] |= values[x]`` for every ``x``, repeated rows included."""
+    if len(np.unique(rows)) == len(rows):
+        out[rows] |= values
+    else:
+        np.logical_or.at(out, rows, values)
+
+
+def _parent(rp: Any, motions: _PairMotions, state: tuple[int, int], reach: np.ndarray, mask_r: np.ndarray,
+            mask_b: np.ndarray) -> tuple[int, int]:
+    """The state of ``reach`` that ``state`` is reached from: the first in (option of ``r``, option
+    of ``b``, row, column) order among those with a free step into it."""
+    nxt = rp.nxt
+    for u in range(len(rp.deltas)):
+        src_i = np.nonzero((nxt[u] == state[0]) & mask_r[u])[0]
+        if not len(src_i):
+            continue
+        for v in range(len(rp.deltas)):
+            src_j = np.nonzero((nxt[v] == state[1]) & mask_b[v])[0]
+            ii, jj = (g.ravel() for g in np.meshgrid(src_i, src_j, indexing="ij"))
+            sel = reach[ii, jj]
+            ii, jj = ii[sel], jj[sel]
+            if len(ii):
+                free = motions.free(np.full(len(ii), u), np.full(len(ii), v), ii, jj)
+                if free.any():
+                    x = int(np.argmax(free))
+                    return int(ii[x]), int(jj[x])
+    raise AssertionError(f"pair state {state} has no parent")  # pragma: no cover - reach is its image
+
+
+def _read_back(rp: Any, motions: _PairMotions, r: int, b: int, goals: tuple[int, int], layers: list[np.ndarray],
+               masks_r: np.ndarray, masks_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pair's trajectories arriving at ``goals`` after ``len(layers)`` steps, read back
+    through each step's parents (:func:`_parent`); every later step stands at the goal."""
+    path = [goals]
+    for t in range(len(layers) - 1, -1, -1):
+        path.append(_parent(rp, motions, path[-1], layers[t], masks_r[t], masks_b[t]))
     path.reverse()
-    arrival = len(parents)
+    arrival = len(layers)
     out = []
-    for x, column in ((r, np.asarray(path) // npos), (b, np.asarray(path) % npos)):
+    for x, column in ((r, np.array([p[0] for p in path])), (b, np.array([p[1] for p in path]))):
         traj = rp.traj[:, x].copy()
         traj[:arrival + 1] = column
         traj[arrival + 1:] = column[-1]
